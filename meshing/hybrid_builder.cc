@@ -1,0 +1,152 @@
+#include "hybrid_builder.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+#include "mesh_checks.h"
+#include "mesh_error.h"
+#include "point_location.h"
+#include "vertex_selection.h"
+
+namespace tb {
+namespace {
+
+/// Keeps the tets in `keep` and the nodes they use (renumbered in their old order).
+TetMesh compact(const TetMesh& m, const std::vector<int>& keep, std::vector<int>& new_index) {
+  new_index.assign(static_cast<size_t>(m.V.rows()), -1);
+  for (int t : keep)
+    for (int k = 0; k < 4; ++k) new_index[static_cast<size_t>(m.T(t, k))] = 0;
+  int next = 0;
+  for (auto& n : new_index)
+    if (n == 0) n = next++;
+  TetMesh out;
+  out.V.resize(next, 3);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    if (new_index[static_cast<size_t>(v)] >= 0) out.V.row(new_index[static_cast<size_t>(v)]) = m.V.row(v);
+  out.T.resize(static_cast<Eigen::Index>(keep.size()), 4);
+  for (size_t i = 0; i < keep.size(); ++i)
+    for (int k = 0; k < 4; ++k) out.T(static_cast<Eigen::Index>(i), k) = new_index[static_cast<size_t>(m.T(keep[i], k))];
+  return out;
+}
+
+/// Nodes of the coarse mesh on its boundary (faces owned by one tet), ascending.
+std::vector<int> boundary_nodes(const TetMesh& m) {
+  std::map<std::array<int, 3>, int> face_count;
+  static const int faces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+    for (const auto& f : faces) {
+      std::array<int, 3> key{m.T(t, f[0]), m.T(t, f[1]), m.T(t, f[2])};
+      std::sort(key.begin(), key.end());
+      ++face_count[key];
+    }
+  std::vector<char> on(static_cast<size_t>(m.V.rows()), 0);
+  for (const auto& [f, n] : face_count)
+    if (n == 1)
+      for (int v : f) on[static_cast<size_t>(v)] = 1;
+  std::vector<int> out;
+  for (size_t v = 0; v < on.size(); ++v)
+    if (on[v]) out.push_back(static_cast<int>(v));
+  return out;
+}
+
+std::vector<int> surface_to_volume_identity(const SurfaceMesh& s) {
+  std::vector<int> map(static_cast<size_t>(s.V.rows()));
+  std::iota(map.begin(), map.end(), 0);  // tetrahedralize_surface keeps surface vertices first
+  return map;
+}
+
+}  // namespace
+
+HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBuildOptions& o,
+                                     const std::string& source) {
+  HybridMesh h;
+  h.fine_surface = surface;
+  h.fine_volume = tetrahedralize_surface(surface, o.fine_tetgen, source);
+  h.fine_surface_to_volume = surface_to_volume_identity(surface);
+  const int n_surface = static_cast<int>(surface.V.rows());
+
+  // Selection priority: shape-carrying surface vertices first (corners, creases,
+  // then the rest of the surface), interior vertices last, so the coarse mesh
+  // keeps the outline and the support face.
+  std::vector<int> priority(static_cast<size_t>(h.fine_volume.V.rows()), 3);
+  const std::vector<int> surface_priority = surface_feature_priority(surface, o.feature_angle_deg);
+  std::copy(surface_priority.begin(), surface_priority.end(), priority.begin());
+  const double spacing = o.coarse_spacing > 0 ? o.coarse_spacing
+                                              : spacing_for_target_count(h.fine_volume.V, priority, o.target_coarse_nodes);
+  std::vector<int> selected = select_covering_vertices(h.fine_volume.V, priority, spacing);
+  std::sort(selected.begin(), selected.end());
+  if (selected.size() < 4) throw MeshError(source, "too few vertices selected for a coarse mesh (spacing too large)");
+
+  Points selected_points(static_cast<Eigen::Index>(selected.size()), 3);
+  for (size_t i = 0; i < selected.size(); ++i) selected_points.row(static_cast<Eigen::Index>(i)) = h.fine_volume.V.row(selected[i]);
+  const TetMesh hull = tetrahedralize_points(selected_points, source);
+
+  // Remove coarse tets outside the surface (a Delaunay mesh fills the convex hull).
+  std::vector<int> inside;
+  for (Eigen::Index t = 0; t < hull.T.rows(); ++t) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) centroid += hull.V.row(hull.T(t, k)).transpose() / 4.0;
+    if (winding_number(surface, centroid) > 0.5) inside.push_back(static_cast<int>(t));
+  }
+  std::vector<int> new_index;
+  h.coarse_volume = compact(hull, inside, new_index);
+  for (size_t i = 0; i < selected.size(); ++i)
+    if (new_index[i] >= 0) h.selected_fine_nodes.push_back(selected[i]);
+
+  // Control points: selected vertices on the fine surface, weight 1 on their node.
+  for (size_t i = 0; i < selected.size(); ++i) {
+    const int coarse_node = new_index[i];
+    if (selected[i] >= n_surface || coarse_node < 0) continue;
+    ControlPoint cp;
+    cp.surface_vertex = selected[i];
+    for (Eigen::Index t = 0; t < h.coarse_volume.T.rows() && cp.coarse_tet < 0; ++t)
+      for (int k = 0; k < 4; ++k)
+        if (h.coarse_volume.T(t, k) == coarse_node) {
+          cp.coarse_tet = static_cast<int>(t);
+          cp.weights = Eigen::Vector4d::Unit(k);
+        }
+    h.control_points.push_back(cp);
+  }
+  return h;
+}
+
+HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& coarse, ControlPointRule rule,
+                                    const TetgenOptions* fine_tetgen, const std::string& source) {
+  HybridMesh h;
+  h.fine_surface = surface;
+  h.coarse_volume = coarse;
+  if (fine_tetgen) {
+    h.fine_volume = tetrahedralize_surface(surface, *fine_tetgen, source);
+    h.fine_surface_to_volume = surface_to_volume_identity(surface);
+  }
+  std::vector<ControlPoint> embedding(static_cast<size_t>(surface.V.rows()));
+  for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
+    const TetEmbedding e = locate_point(coarse, surface.V.row(v).transpose());
+    embedding[static_cast<size_t>(v)] = {static_cast<int>(v), e.tet, e.weights};
+  }
+  std::vector<int> chosen;
+  if (rule == ControlPointRule::AllSurfaceVertices) {
+    chosen.resize(embedding.size());
+    std::iota(chosen.begin(), chosen.end(), 0);
+  } else {
+    for (int node : boundary_nodes(coarse)) {
+      Eigen::Index nearest = 0;
+      (surface.V.rowwise() - coarse.V.row(node)).rowwise().squaredNorm().minCoeff(&nearest);
+      chosen.push_back(static_cast<int>(nearest));
+    }
+    std::sort(chosen.begin(), chosen.end());
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  }
+  for (int v : chosen) h.control_points.push_back(embedding[static_cast<size_t>(v)]);
+  return h;
+}
+
+double max_embedding_distance(const HybridMesh& h) {
+  double worst = 0;
+  for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
+    worst = std::max(worst, locate_point(h.coarse_volume, h.fine_surface.V.row(v).transpose()).distance);
+  return worst;
+}
+
+}  // namespace tb

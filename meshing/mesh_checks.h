@@ -1,0 +1,39 @@
+// Validity checks on meshes. Each failure throws MeshError naming the file, the
+// problem and how many elements have it.
+#pragma once
+
+#include <string>
+
+#include "mesh_types.h"
+
+namespace tb {
+
+/// What check_and_orient_surface found and fixed.
+struct SurfaceCheckReport {
+  int flipped_triangles = 0;  ///< triangles reoriented to make the surface consistent and outward
+};
+
+/// Checks that a surface is a closed, 2-manifold, orientable triangle mesh with
+/// finite coordinates and no degenerate or duplicate triangles, then orients it
+/// consistently with outward normals (positive enclosed volume), in place.
+/// Does not look for self-intersections (see find_self_intersections).
+SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh& mesh);
+
+/// Checks tets: indices in range, finite coordinates, no zero-volume tet (relative
+/// to the mesh size); swaps two nodes of each negatively oriented tet. In place.
+/// Returns how many tets were reoriented.
+int orient_and_check_tets(const std::string& file, TetMesh& mesh);
+
+/// Signed volume enclosed by a closed, outward-oriented surface (divergence theorem).
+double enclosed_volume(const SurfaceMesh& mesh);
+/// Signed volume of one tet: det[b-a, c-a, d-a] / 6.
+double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                  const Eigen::Vector3d& d);
+/// Sum of tet volumes.
+double total_volume(const TetMesh& mesh);
+/// Smallest dihedral angle over all tets, in degrees.
+double min_dihedral_angle_deg(const TetMesh& mesh);
+/// Length of the bounding-box diagonal.
+double bounding_box_diagonal(const Points& V);
+
+}  // namespace tb

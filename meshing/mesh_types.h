@@ -1,0 +1,55 @@
+// Mesh types shared by every stage: a triangle surface, a tetrahedral volume and
+// the hybrid mesh of paper section 1.2 (fine surface + coarse tets + control points).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace tb {
+
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Triangles = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Tetrahedra = Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>;
+
+/// A closed triangle surface.
+///   V  #V by 3 vertex positions
+///   F  #F by 3 vertex indices per triangle, counter-clockwise seen from outside
+struct SurfaceMesh {
+  Points V;
+  Triangles F;
+};
+
+/// A tetrahedral volume.
+///   V  #V by 3 node positions
+///   T  #T by 4 node indices per tet, positively oriented
+///      (det[v1-v0, v2-v0, v3-v0] > 0)
+struct TetMesh {
+  Points V;
+  Tetrahedra T;
+};
+
+/// A fine-surface vertex tied to the coarse volume: its position is the barycentric
+/// combination of the coarse tet's nodes (eq. 33 places it there every frame).
+/// When the vertex coincides with a coarse node, weights is a unit vector.
+struct ControlPoint {
+  int surface_vertex = -1;       ///< index into the fine surface's V
+  int coarse_tet = -1;           ///< index into the coarse volume's T
+  Eigen::Vector4d weights{1, 0, 0, 0};  ///< barycentric weights, sum to 1
+};
+
+/// The hybrid mesh of paper section 1.2.
+///   fine_volume may be empty when a coarse volume was given (liver path).
+///   fine_surface_to_volume  #V_surface indices of each surface vertex in
+///   fine_volume.V, or empty when fine_volume is empty.
+struct HybridMesh {
+  SurfaceMesh fine_surface;
+  TetMesh fine_volume;
+  std::vector<int> fine_surface_to_volume;
+  TetMesh coarse_volume;
+  std::vector<ControlPoint> control_points;
+  /// Indices (into fine_volume.V) of the base-mesh vertices selected as coarse
+  /// nodes; empty on the given-coarse path.
+  std::vector<int> selected_fine_nodes;
+};
+
+}  // namespace tb

@@ -1,0 +1,35 @@
+// Where a point sits relative to a tet mesh or a closed surface.
+#pragma once
+
+#include "mesh_types.h"
+
+namespace tb {
+
+/// A point expressed in one tet: p = sum_k weights[k] * V[T(tet, k)].
+/// Weights are the (unclamped) barycentric coordinates, so a point outside its
+/// tet is reproduced exactly too; `distance` is 0 inside, else the distance from
+/// the point to the tet.
+struct TetEmbedding {
+  int tet = -1;
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();
+  double distance = 0;
+};
+
+/// Barycentric coordinates of p in tet (a, b, c, d).
+Eigen::Vector4d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                            const Eigen::Vector3d& d, const Eigen::Vector3d& p);
+
+/// The tet containing p (the lowest index when on a shared face, so the result is
+/// deterministic), else the nearest tet. A tet contains p when every barycentric
+/// weight is >= -tolerance.
+TetEmbedding locate_point(const TetMesh& mesh, const Eigen::Vector3d& p, double tolerance = 1e-9);
+
+/// Distance from p to triangle (a, b, c).
+double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& c);
+
+/// Generalized winding number of a closed surface at p: 1 inside, 0 outside
+/// (for an outward-oriented surface), 1/2 on it.
+double winding_number(const SurfaceMesh& surface, const Eigen::Vector3d& p);
+
+}  // namespace tb

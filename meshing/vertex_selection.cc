@@ -1,0 +1,74 @@
+#include "vertex_selection.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "mesh_checks.h"
+
+namespace tb {
+
+std::vector<int> surface_feature_priority(const SurfaceMesh& s, double feature_angle_deg) {
+  const double cos_limit = std::cos(feature_angle_deg * M_PI / 180.0);
+  std::vector<Eigen::Vector3d> normals(static_cast<size_t>(s.F.rows()));
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
+    const Eigen::Vector3d a = s.V.row(s.F(t, 0)), b = s.V.row(s.F(t, 1)), c = s.V.row(s.F(t, 2));
+    normals[static_cast<size_t>(t)] = (b - a).cross(c - a).normalized();
+  }
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = s.F(t, k), b = s.F(t, (k + 1) % 3);
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+    }
+  std::vector<int> feature_edges(static_cast<size_t>(s.V.rows()), 0);
+  for (const auto& [e, f] : edge_faces)
+    if (f.size() == 2 && normals[static_cast<size_t>(f[0])].dot(normals[static_cast<size_t>(f[1])]) < cos_limit) {
+      ++feature_edges[static_cast<size_t>(e.first)];
+      ++feature_edges[static_cast<size_t>(e.second)];
+    }
+  std::vector<int> priority(feature_edges.size());
+  for (size_t v = 0; v < priority.size(); ++v)
+    priority[v] = feature_edges[v] >= 3 ? 0 : feature_edges[v] >= 1 ? 1 : 2;
+  return priority;
+}
+
+std::vector<int> select_covering_vertices(const Points& V, const std::vector<int>& priority, double spacing) {
+  std::vector<int> order(static_cast<size_t>(V.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return priority[static_cast<size_t>(a)] < priority[static_cast<size_t>(b)]; });
+  std::vector<int> selected;
+  const double s2 = spacing * spacing;
+  for (int v : order) {
+    bool covered = false;
+    for (int w : selected)
+      if ((V.row(v) - V.row(w)).squaredNorm() < s2) {
+        covered = true;
+        break;
+      }
+    if (!covered) selected.push_back(v);
+  }
+  return selected;
+}
+
+double spacing_for_target_count(const Points& V, const std::vector<int>& priority, int target_count) {
+  double lo = 0, hi = bounding_box_diagonal(V);
+  double best = hi;
+  int best_miss = V.rows();
+  for (int it = 0; it < 50; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const int count = static_cast<int>(select_covering_vertices(V, priority, mid).size());
+    if (std::abs(count - target_count) < best_miss) {
+      best_miss = std::abs(count - target_count);
+      best = mid;
+    }
+    if (count == target_count) break;
+    (count > target_count ? lo : hi) = mid;
+  }
+  return best;
+}
+
+}  // namespace tb
