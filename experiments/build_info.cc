@@ -1,0 +1,36 @@
+#include "build_info.h"
+
+#include <unistd.h>
+
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <thread>
+
+namespace tb {
+
+nlohmann::json build_and_machine_info() {
+  nlohmann::json j;
+  j["git_commit"] = TB_GIT_COMMIT;
+  j["build_type"] = TB_BUILD_TYPE;
+  j["compiler"] = std::string("g++ ") + __VERSION__;
+  j["compiler_flags"] = TB_CXX_FLAGS;
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) {
+      j["cpu_model"] = line.substr(line.find(':') + 2);
+      break;
+    }
+  j["hardware_threads"] = std::thread::hardware_concurrency();
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  j["hostname"] = host;
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  j["date_utc"] = date;
+  return j;
+}
+
+}  // namespace tb

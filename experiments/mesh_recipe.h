@@ -1,0 +1,46 @@
+// How a scenario's meshes are made: the paper's cube or files, turned into a
+// HybridMesh (meshing/). Shared by `tissuebench run` and `tissuebench mesh`.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cube_generator.h"
+#include "hybrid_builder.h"
+#include "mesh_types.h"
+
+namespace tb {
+
+struct MeshRecipe {
+  enum class Kind { Cube, Files } kind = Kind::Cube;
+  CubeSpec cube;
+  std::string surface_file;      ///< Files: the fine surface
+  std::string coarse_file;       ///< Files: optional given coarse volume
+  double unit_scale = 1.0;       ///< Files: multiply coordinates (0.01 for cm)
+  bool repair_self_intersections = false;
+  ControlPointRule control_points = ControlPointRule::NearestToCoarseSurfaceNodes;
+  HybridBuildOptions build;      ///< fine TetGen bounds, coarse target
+  bool build_fine_volume = true; ///< Files + coarse: also mesh the fine volume (FEM reference)
+};
+
+/// What building reported, written to summary.json / run.json.
+struct MeshReport {
+  int self_intersections_found = 0;
+  bool repaired = false;
+  int flipped_triangles = 0;
+  nlohmann::json to_json(const HybridMesh& mesh) const;
+};
+
+/// Parses the scenario's "mesh" object strictly; file paths are resolved against
+/// `base_dir`. `where` prefixes error messages.
+MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where);
+
+/// Reads/generates, checks and builds. Self-intersections are an error unless the
+/// recipe asks for repair. Throws MeshError / std::runtime_error.
+HybridMesh build_mesh(const MeshRecipe& recipe, MeshReport& report);
+
+/// Writes fine/coarse volumes, control points, the surface (VTU, OBJ) and
+/// summary.json into `dir`.
+void write_mesh_folder(const std::string& dir, const HybridMesh& mesh, const MeshReport& report);
+
+}  // namespace tb

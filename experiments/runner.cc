@@ -1,0 +1,266 @@
+// The runner loop, narrated:
+//  1. Meshes: each scenario's mesh recipe is built once per process and shared by
+//     every scenario with the same recipe (cube pull and push share one).
+//  2. Setup: the model is created from the registry and set up; timed on its own.
+//  3. Frames: the load of the frame (ramped, then constant) is applied by step();
+//     only step() is inside the timed region. After each frame the surface
+//     displacement is checked for divergence (NaN/Inf, or beyond a bound).
+//     Dynamic models stop at the steady state: max per-vertex change in a frame
+//     <= steady_tolerance x max displacement. Static models run `static` frames,
+//     which are the timing samples of the per-frame solve.
+//  4. Output: written into a temporary folder, then renamed into place, so a
+//     killed or failed run leaves the previous result intact.
+#include "runner.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "build_info.h"
+#include "mesh_checks.h"
+#include "mesh_io.h"
+
+namespace tb {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+TimingStats timing_stats(std::vector<double> s) {
+  TimingStats t;
+  t.count = static_cast<int>(s.size());
+  if (s.empty()) return t;
+  std::sort(s.begin(), s.end());
+  auto quantile = [&](double q) {  // linear interpolation between order statistics
+    const double pos = q * static_cast<double>(s.size() - 1);
+    const size_t lo = static_cast<size_t>(std::floor(pos));
+    const size_t hi = std::min(lo + 1, s.size() - 1);
+    return s[lo] + (pos - static_cast<double>(lo)) * (s[hi] - s[lo]);
+  };
+  t.median = quantile(0.5);
+  t.p95 = quantile(0.95);
+  double sum = 0;
+  for (double x : s) sum += x;
+  t.mean = sum / static_cast<double>(s.size());
+  t.min = s.front();
+  t.max = s.back();
+  return t;
+}
+
+namespace {
+
+nlohmann::json to_json(const TimingStats& t) {
+  return {{"median_ms", t.median}, {"p95_ms", t.p95}, {"mean_ms", t.mean},
+          {"min_ms", t.min},       {"max_ms", t.max}, {"count", t.count}};
+}
+
+/// Progress on stderr: one updating line on a terminal, plain lines otherwise.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO)) {}
+  void update(const std::string& label, int frame, int budget, double elapsed_s, bool force = false) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (!force && now - last_ < std::chrono::milliseconds(tty_ ? 200 : 2000)) return;
+    last_ = now;
+    const double rate = elapsed_s > 0 ? frame / elapsed_s : 0;
+    std::ostringstream os;
+    os << label << ": frame " << frame << "/" << budget << std::fixed << std::setprecision(0) << ", " << rate
+       << " frames/s";
+    if (rate > 0 && frame < budget) os << ", at most " << std::setprecision(1) << (budget - frame) / rate << " s left";
+    if (tty_) std::cerr << "\r\033[K" << os.str() << std::flush;
+    else std::cerr << os.str() << "\n";
+  }
+  void line(const std::string& text) {
+    if (!enabled_) return;
+    if (tty_) std::cerr << "\r\033[K";
+    std::cerr << text << "\n";
+  }
+
+ private:
+  bool enabled_, tty_;
+  Clock::time_point last_{};
+};
+
+std::vector<int> observed_vertices(const Scenario& s, const Points& V) {
+  std::vector<int> out;
+  const double top = V.col(2).maxCoeff();
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    if (s.observed == "all" || std::abs(V(v, 2) - top) <= s.top_tolerance) out.push_back(static_cast<int>(v));
+  return out;
+}
+
+std::string csv_of(const Points& rest, const Displacements& u, const std::vector<int>& vertices) {
+  std::ostringstream os;
+  os << std::setprecision(17) << "vertex,x,y,z,ux,uy,uz\n";
+  for (int v : vertices)
+    os << v << ',' << rest(v, 0) << ',' << rest(v, 1) << ',' << rest(v, 2) << ',' << u(v, 0) << ',' << u(v, 1) << ','
+       << u(v, 2) << '\n';
+  return os.str();
+}
+
+/// Replaces `dir` by `staging` as atomically as the file system allows.
+void move_into_place(const fs::path& staging, const fs::path& dir) {
+  const fs::path old = dir.string() + ".old" + std::to_string(::getpid());
+  if (fs::exists(dir)) fs::rename(dir, old);
+  fs::rename(staging, dir);
+  std::error_code ec;
+  fs::remove_all(old, ec);
+}
+
+CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& mesh, const nlohmann::json& mesh_summary,
+                     const std::string& experiment, const RunOptions& opt, Progress& progress) {
+  CaseOutcome out{s.name, run.case_name};
+  const ModelInfo& info = find_model(run.model);
+  const std::string label = s.name + "/" + run.case_name;
+  Problem problem{&mesh, s.material, s.support, run.parameters};
+  std::unique_ptr<Model> model = info.create();
+
+  const auto t0 = Clock::now();
+  model->setup(problem);
+  const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  const Points& rest = mesh.fine_surface.V;
+  const double bound = s.divergence_factor * bounding_box_diagonal(rest);
+  const int budget = info.dynamic ? s.max_frames : s.static_frames;
+  std::vector<double> step_ms;
+  step_ms.reserve(static_cast<size_t>(budget));
+  std::vector<int> iterations;
+  Displacements previous = Displacements::Zero(rest.rows(), 3);
+  double last_change = 0;
+  const auto loop_start = Clock::now();
+  for (int frame = 0; frame < budget; ++frame) {
+    const PointLoad load = s.load_at(frame);
+    const auto a = Clock::now();
+    model->step(load);
+    const auto b = Clock::now();
+    step_ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
+    iterations.push_back(model->last_iterations());
+    out.frames = frame + 1;
+
+    const Displacements& u = model->surface_displacement();
+    if (!u.allFinite()) throw std::runtime_error("diverged at frame " + std::to_string(frame) + ": NaN or Inf displacement");
+    const double max_u = u.rowwise().norm().maxCoeff();
+    if (max_u > bound) {
+      std::ostringstream msg;
+      msg << "diverged at frame " << frame << ": displacement " << max_u << " m exceeds " << bound
+          << " m (divergence_factor x bounding-box diagonal)";
+      throw std::runtime_error(msg.str());
+    }
+    last_change = (u - previous).rowwise().norm().maxCoeff();
+    previous = u;
+    if (info.dynamic && frame + 1 >= s.ramp_frames && last_change <= s.steady_tolerance * max_u) {
+      out.steady_frame = frame;
+      break;
+    }
+    progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
+  }
+  if (!info.dynamic) out.steady_frame = std::max(0, s.ramp_frames - 1);
+
+  // ---- output, staged then moved into place ----
+  const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
+  const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+  const Displacements& u = model->surface_displacement();
+  nlohmann::json j;
+  j["experiment"] = experiment;
+  j["scenario"] = s.name;
+  j["scenario_file"] = s.file;
+  j["scenario_as_read"] = s.source;
+  j["case"] = run.case_name;
+  j["model"] = run.model;
+  j["dynamic"] = info.dynamic;
+  j["parameters"] = run.parameters.to_json();
+  j["frames"] = out.frames;
+  j["steady_frame"] = out.steady_frame;
+  j["reached_steady_state"] = !info.dynamic || out.steady_frame >= 0;
+  j["last_frame_change_m"] = last_change;
+  j["max_displacement_m"] = u.rowwise().norm().maxCoeff();
+  j["observed_vertices"] = s.observed;
+  j["mesh"] = mesh_summary;
+  j["build"] = build_and_machine_info();
+  write_file_atomically((staging / "run.json").string(), j.dump(2) + "\n");
+
+  nlohmann::json t;
+  t["setup_ms"] = setup_ms;
+  t["step"] = to_json(timing_stats(step_ms));
+  // Frames after the load ramp, i.e. the frames of the steady load only.
+  const size_t skip = std::min(step_ms.size(), static_cast<size_t>(s.ramp_frames));
+  t["step_after_ramp"] = to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
+  t["step_ms_per_frame"] = step_ms;
+  t["solver_iterations_per_frame"] = iterations;
+  t["build"] = j["build"];
+  write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");
+
+  write_file_atomically((staging / "top_surface.csv").string(), csv_of(rest, u, observed_vertices(s, rest)));
+  std::vector<int> all(static_cast<size_t>(rest.rows()));
+  for (size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
+  write_file_atomically((staging / "surface.csv").string(), csv_of(rest, u, all));
+  SurfaceMesh deformed{rest + u, mesh.fine_surface.F};
+  write_surface_vtu((staging / "surface.vtu").string(), deformed,
+                    {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
+  move_into_place(staging, dir);
+  out.ok = true;
+  return out;
+}
+
+}  // namespace
+
+std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& opt) {
+  Progress progress(opt.progress);
+  std::map<std::string, std::pair<std::shared_ptr<HybridMesh>, nlohmann::json>> meshes;
+  std::vector<CaseOutcome> outcomes;
+  for (const Scenario& s : e.scenarios) {
+    // The same recipe (same JSON, same folder) builds the same mesh: build it once.
+    const std::string key = fs::path(s.file).parent_path().string() + "|" + s.source.at("mesh").dump();
+    std::shared_ptr<HybridMesh> mesh;
+    nlohmann::json summary;
+    try {
+      auto it = meshes.find(key);
+      if (it == meshes.end()) {
+        progress.line(s.name + ": building meshes");
+        MeshReport report;
+        mesh = std::make_shared<HybridMesh>(build_mesh(s.mesh, report));
+        summary = report.to_json(*mesh);
+        meshes[key] = {mesh, summary};
+        progress.line(s.name + ": " + std::to_string(mesh->fine_surface.V.rows()) + " surface vertices, " +
+                      std::to_string(mesh->fine_volume.T.rows()) + " fine tets, " +
+                      std::to_string(mesh->coarse_volume.T.rows()) + " coarse tets, " +
+                      std::to_string(mesh->control_points.size()) + " control points");
+      } else {
+        std::tie(mesh, summary) = it->second;
+      }
+    } catch (const std::exception& ex) {
+      for (const ModelRun& run : s.models) outcomes.push_back({s.name, run.case_name, false, ex.what()});
+      progress.line(s.name + ": FAILED building meshes: " + ex.what());
+      continue;
+    }
+    for (const ModelRun& run : s.models) {
+      if (!opt.only_case.empty() && opt.only_case != run.case_name && opt.only_case != run.model) continue;
+      CaseOutcome o{s.name, run.case_name};
+      try {
+        o = run_case(s, run, *mesh, summary, e.name, opt, progress);
+        progress.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +
+                      (o.steady_frame >= 0 ? "" : " (frame budget reached before steady state)"));
+      } catch (const std::exception& ex) {
+        o.ok = false;
+        o.error = ex.what();
+        progress.line(s.name + "/" + run.case_name + ": FAILED: " + o.error);
+        std::error_code ec;
+        fs::remove_all(fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".tmp" + std::to_string(::getpid())), ec);
+      }
+      outcomes.push_back(o);
+    }
+  }
+  return outcomes;
+}
+
+}  // namespace tb

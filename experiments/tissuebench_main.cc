@@ -1,0 +1,113 @@
+// The tissuebench command line: `run`, `mesh`, `models`. Any failure prints one
+// line naming the file and the problem and exits non-zero.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+
+#include "mesh_recipe.h"
+#include "model.h"
+#include "runner.h"
+#include "strict_json.h"
+
+namespace {
+
+int command_models() {
+  for (const auto& m : tb::registered_models()) {
+    std::cout << m.name << (m.dynamic ? " (dynamic)" : " (static)") << ": " << m.description << "\n";
+    for (const auto& p : m.parameters) {
+      std::cout << "  " << p.name << " = ";
+      if (p.choices.empty()) std::cout << p.default_number << " in [" << p.min << ", " << p.max << "]";
+      else {
+        std::cout << p.default_choice << " (one of";
+        for (const auto& c : p.choices) std::cout << " " << c;
+        std::cout << ")";
+      }
+      std::cout << ": " << p.description << "\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tissuebench: soft-tissue deformation models (fine FEM, PBD, hybrid) on shared scenarios"};
+  app.require_subcommand(1);
+
+  auto* run = app.add_subcommand("run", "Run a scenario or an experiment file and write results");
+  std::string scenario_file, out_dir = "results", only;
+  bool quiet = false;
+  run->add_option("file", scenario_file, "scenario or experiment JSON")->required();
+  run->add_option("--out", out_dir, "results folder (default: results)");
+  run->add_option("--model", only, "run only this case or model name");
+  run->add_flag("--quiet", quiet, "no progress on stderr");
+
+  auto* mesh = app.add_subcommand("mesh", "Build a hybrid mesh (paper section 1.2) and write it for ParaView");
+  std::string surface, coarse, mesh_out;
+  bool cube = false, repair = false;
+  double unit_scale = 1.0, max_volume = 0, quality = 1.414;
+  int target = 150;
+  auto* surface_opt = mesh->add_option("--surface", surface, "closed triangle surface (.obj .off .stl .ply .vtu)");
+  auto* cube_opt = mesh->add_flag("--cube", cube, "the paper's cube (10 x 10 x 12 divisions, side 0.1 m)");
+  surface_opt->excludes(cube_opt);
+  mesh->add_option("--coarse", coarse, "given coarse tet volume (.msh .ele .vtu): embed the surface in it");
+  mesh->add_option("--unit-scale", unit_scale, "multiply file coordinates by this (0.01 for centimetres)");
+  mesh->add_flag("--repair-self-intersections", repair, "repair self-intersections with CGAL (reported)");
+  mesh->add_option("--max-volume", max_volume, "fine TetGen volume bound, m^3 (0: none)");
+  mesh->add_option("--quality", quality, "fine TetGen radius-edge bound (-q)");
+  mesh->add_option("--target-coarse-nodes", target, "coarse node count to aim for");
+  mesh->add_option("--out", mesh_out, "output folder")->required();
+
+  app.add_subcommand("models", "List the registered models and their parameters");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (app.got_subcommand("models")) return command_models();
+    if (run->parsed()) {
+      const tb::Experiment e = tb::load_experiment(scenario_file);
+      tb::RunOptions opt;
+      opt.out_dir = out_dir;
+      opt.only_case = only;
+      opt.progress = !quiet;
+      const auto outcomes = tb::run_experiment(e, opt);
+      int failed = 0, ran = 0;
+      for (const auto& o : outcomes) {
+        ++ran;
+        if (!o.ok) {
+          ++failed;
+          std::cerr << "tissuebench: " << o.scenario << "/" << o.case_name << " failed: " << o.error << "\n";
+        }
+      }
+      if (ran == 0) {
+        std::cerr << "tissuebench: " << scenario_file << ": no case matches --model " << only << "\n";
+        return 2;
+      }
+      std::cerr << "tissuebench: " << ran - failed << " of " << ran << " cases written under " << out_dir << "/"
+                << e.name << "\n";
+      return failed ? 1 : 0;
+    }
+    if (mesh->parsed()) {
+      if (!cube && surface.empty()) throw std::invalid_argument("mesh: give --surface FILE or --cube");
+      nlohmann::json recipe;
+      if (cube) {
+        recipe = {{"type", "cube"}};
+      } else {
+        recipe = {{"type", "files"}, {"surface", std::filesystem::absolute(surface).string()},
+                  {"unit_scale", unit_scale}, {"repair_self_intersections", repair}};
+        if (!coarse.empty()) recipe["coarse"] = std::filesystem::absolute(coarse).string();
+      }
+      recipe["fine_tetgen"] = {{"radius_edge_ratio", quality}, {"max_volume", max_volume}};
+      recipe["coarse_selection"] = {{"target_nodes", target}};
+      const tb::MeshRecipe r = tb::parse_mesh_recipe(recipe, ".", "mesh options");
+      tb::MeshReport report;
+      const tb::HybridMesh h = tb::build_mesh(r, report);
+      tb::write_mesh_folder(mesh_out, h, report);
+      std::cout << report.to_json(h).dump(2) << "\n";
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "tissuebench: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,100 @@
+#include "elastic_solver.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <sstream>
+#include <stdexcept>
+
+#include "point_location.h"
+#include "stiffness_assembly.h"
+
+namespace tb {
+
+struct ElasticSolver::Factorisation {
+  Eigen::SparseMatrix<double> K_free;
+  // CHOLMOD supernodal Cholesky (with OpenBLAS), factorised once.
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+  // CG on the free dofs, incomplete-Cholesky preconditioned, warm-started.
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
+      cg;
+};
+
+ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
+                             SolveMode mode, double cg_relative_tolerance)
+    : mesh_(mesh), mode_(mode), fact_(std::make_unique<Factorisation>()) {
+  if (clamped.size() != static_cast<size_t>(mesh.V.rows()))
+    throw std::invalid_argument("clamped flags: one per node expected");
+  K_full_ = assemble_stiffness(mesh, material.youngs_modulus, material.poisson_ratio);
+  const int ndof = static_cast<int>(3 * mesh.V.rows());
+  full_to_free_.assign(static_cast<size_t>(ndof), -1);
+  for (int d = 0; d < ndof; ++d)
+    if (!clamped[static_cast<size_t>(d / 3)]) {
+      full_to_free_[static_cast<size_t>(d)] = static_cast<int>(free_to_full_.size());
+      free_to_full_.push_back(d);
+    }
+  if (free_to_full_.size() == static_cast<size_t>(ndof))
+    throw std::invalid_argument("no node is clamped: the support selects nothing, so K is singular");
+  if (free_to_full_.empty()) throw std::invalid_argument("every node is clamped: nothing can move");
+
+  // K restricted to the free dofs (Dirichlet u = 0 on the clamped ones).
+  std::vector<Eigen::Triplet<double>> t;
+  for (int c = 0; c < K_full_.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K_full_, c); it; ++it) {
+      const int r = full_to_free_[static_cast<size_t>(it.row())], cc = full_to_free_[static_cast<size_t>(it.col())];
+      if (r >= 0 && cc >= 0) t.emplace_back(r, cc, it.value());
+    }
+  const auto n = static_cast<Eigen::Index>(free_to_full_.size());
+  fact_->K_free.resize(n, n);
+  fact_->K_free.setFromTriplets(t.begin(), t.end());
+  if (mode_ == SolveMode::Direct) {
+    fact_->cholesky.compute(fact_->K_free);
+    if (fact_->cholesky.info() != Eigen::Success)
+      throw std::runtime_error("stiffness matrix is not positive definite (CHOLMOD factorisation failed)");
+  } else {
+    fact_->cg.setTolerance(cg_relative_tolerance);
+    fact_->cg.setMaxIterations(10 * static_cast<int>(n));
+    fact_->cg.compute(fact_->K_free);
+    if (fact_->cg.info() != Eigen::Success) throw std::runtime_error("incomplete Cholesky preconditioner failed");
+  }
+  f_free_ = Eigen::VectorXd::Zero(n);
+  u_free_ = Eigen::VectorXd::Zero(n);
+}
+
+ElasticSolver::~ElasticSolver() = default;
+
+LoadStencil ElasticSolver::locate_load(const Eigen::Vector3d& point) const {
+  const TetEmbedding e = locate_point(mesh_, point, 1e-6);
+  if (e.tet < 0 || e.distance > 0) {
+    std::ostringstream msg;
+    msg << "load point (" << point.x() << ", " << point.y() << ", " << point.z() << ") is outside the mesh"
+        << " (distance " << e.distance << " m)";
+    throw std::invalid_argument(msg.str());
+  }
+  LoadStencil s;
+  for (int k = 0; k < 4; ++k) s.nodes(k) = mesh_.T(e.tet, k);
+  s.weights = e.weights;
+  return s;
+}
+
+void ElasticSolver::solve(const LoadStencil& stencil, const Eigen::Vector3d& force, Eigen::VectorXd& u) {
+  f_free_.setZero();
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const int free = full_to_free_[static_cast<size_t>(3 * stencil.nodes(k) + c)];
+      if (free >= 0) f_free_(free) += stencil.weights(k) * force(c);  // a force on a clamped node goes to the support
+    }
+  if (u.size() != 3 * mesh_.V.rows()) u = Eigen::VectorXd::Zero(3 * mesh_.V.rows());
+  if (mode_ == SolveMode::Direct) {
+    u_free_ = fact_->cholesky.solve(f_free_);
+    last_iterations_ = 0;
+  } else {
+    for (size_t i = 0; i < free_to_full_.size(); ++i) u_free_(static_cast<Eigen::Index>(i)) = u(free_to_full_[i]);
+    u_free_ = fact_->cg.solveWithGuess(f_free_, u_free_);
+    last_iterations_ = static_cast<int>(fact_->cg.iterations());
+    if (fact_->cg.info() != Eigen::Success) throw std::runtime_error("CG did not converge");
+  }
+  for (size_t i = 0; i < free_to_full_.size(); ++i) u(free_to_full_[i]) = u_free_(static_cast<Eigen::Index>(i));
+}
+
+}  // namespace tb

@@ -1,0 +1,46 @@
+// PBD constraint functions, gradients and projections (paper 1.4) as stateless
+// functions, after Bender's PositionBasedDynamics (STYLE.md 1). Each projection
+// returns position corrections; the caller applies them.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace tb::pbd {
+
+using Vec3 = Eigen::Vector3d;
+
+/// Stretch constraint, eq. (14): C = |p1 - p2| - rest_length.
+double stretch_constraint(const Vec3& p1, const Vec3& p2, double rest_length);
+/// Its gradients, eqs. (15)-(16). Zero when p1 == p2.
+void stretch_gradient(const Vec3& p1, const Vec3& p2, Vec3& grad1, Vec3& grad2);
+/// Projection, eqs. (17)-(18), scaled by stiffness in [0, 1]. Returns false (and
+/// zero corrections) when both points are fixed or coincide.
+bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length, double stiffness,
+                     Vec3& corr1, Vec3& corr2);
+
+/// Bending constraint across the edge (p1, p2) shared by two triangles with the
+/// wing vertices p3 and p4, eq. (19) as intended: C = arccos(n1 . n2) - rest_angle,
+/// the dot product clamped to [-1, 1]. The normals are those of eqs. (20)-(21) but
+/// consistently oriented, n1 of (p1, p2, p3) and n2 of (p2, p1, p4), so a flat pair
+/// has angle 0 (eqs. 20-21 as printed give pi there, where arccos is singular).
+/// A degenerate triangle (zero normal) gives C = 0.
+double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double rest_angle);
+/// The angle between the two triangles' normals, arccos(n1 . n2), in [0, pi]
+/// (0 when coplanar and unfolded).
+double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4);
+/// Gradients of C with respect to p1..p4 (eqs. 22-25 in value). Computed with
+/// Bridson et al.'s bounded form of the dihedral-angle gradient instead of the
+/// 1/sqrt(1 - d^2) form, which is 0/0 when the triangles are coplanar.
+/// Returns false (zero gradients) for a degenerate configuration.
+bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 grad[4]);
+/// Projection: dp_i = -s w_i C / (sum_j w_j |grad_j C|^2) grad_i C (eq. 13 with
+/// masses; the paper's eq. (26) with its extra factor 4 is Mueller 2007's
+/// typo, not used). Returns false with zero corrections when nothing moves.
+bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+                     double w4, double rest_angle, double stiffness, Vec3 corr[4]);
+
+/// Mueller et al. 2007's iteration-count correction: the per-iteration stiffness
+/// k' = 1 - (1 - k)^(1/n) so that n iterations act like stiffness k once.
+double stiffness_per_iteration(double stiffness, int iterations);
+
+}  // namespace tb::pbd

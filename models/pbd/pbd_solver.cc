@@ -1,0 +1,141 @@
+#include "pbd_solver.h"
+
+#include <Eigen/Geometry>
+#include <map>
+#include <stdexcept>
+
+#include "constraints.h"
+#include "mesh_checks.h"
+
+namespace tb::pbd {
+
+std::vector<ParameterSpec> parameter_specs() {
+  return {
+      {"time_step", 0.01, 1e-6, 1.0, "time step per frame, s"},
+      {"iterations", 10, 1, 1000, "Gauss-Seidel projection sweeps per frame", {}, {}, true},
+      {"stretch_stiffness", 1.0, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"},
+      {"bending_stiffness", 1.0, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"},
+      {"stiffness_correction", 0, 0, 0, "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given",
+       {"mueller2007", "none"}, "mueller2007"},
+      {"damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"},
+  };
+}
+
+Settings Settings::from(const Parameters& p) {
+  Settings s;
+  s.time_step = p.number("time_step");
+  s.iterations = p.integer("iterations");
+  s.stretch_stiffness = p.number("stretch_stiffness");
+  s.bending_stiffness = p.number("bending_stiffness");
+  s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
+  s.damping = p.number("damping");
+  return s;
+}
+
+ConstraintSet build_constraints(const SurfaceMesh& s) {
+  // Each edge with its triangles' opposite vertices, in (min, max) edge order so the
+  // constraint order is deterministic.
+  std::map<std::pair<int, int>, std::vector<std::array<int, 3>>> edges;  // (a, b, opposite) as traversed
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = s.F(t, k), b = s.F(t, (k + 1) % 3), o = s.F(t, (k + 2) % 3);
+      edges[{std::min(a, b), std::max(a, b)}].push_back({a, b, o});
+    }
+  ConstraintSet c;
+  c.stretch.resize(static_cast<Eigen::Index>(edges.size()), 2);
+  c.stretch_rest.resize(static_cast<Eigen::Index>(edges.size()));
+  std::vector<std::array<int, 4>> bends;
+  Eigen::Index i = 0;
+  for (const auto& [e, tris] : edges) {
+    c.stretch.row(i) << e.first, e.second;
+    c.stretch_rest(i) = (s.V.row(e.first) - s.V.row(e.second)).norm();
+    ++i;
+    if (tris.size() == 2) {
+      // p1 -> p2 as the first triangle traverses the edge, p3 its opposite vertex,
+      // p4 the other triangle's: triangles (p1, p2, p3) and (p2, p1, p4), as
+      // constraints.h expects.
+      bends.push_back({tris[0][0], tris[0][1], tris[0][2], tris[1][2]});
+    }
+  }
+  c.bending.resize(static_cast<Eigen::Index>(bends.size()), 4);
+  c.bending_rest.resize(static_cast<Eigen::Index>(bends.size()));
+  for (size_t b = 0; b < bends.size(); ++b) {
+    const auto& q = bends[b];
+    c.bending.row(static_cast<Eigen::Index>(b)) << q[0], q[1], q[2], q[3];
+    c.bending_rest(static_cast<Eigen::Index>(b)) =
+        normal_angle(s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(),
+                     s.V.row(q[3]).transpose());
+  }
+  return c;
+}
+
+Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(s.V.rows());
+  double total_area = 0;
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
+    const Eigen::Vector3d a = s.V.row(s.F(t, 0)), b = s.V.row(s.F(t, 1)), c = s.V.row(s.F(t, 2));
+    const double A = 0.5 * (b - a).cross(c - a).norm();
+    for (int k = 0; k < 3; ++k) area(s.F(t, k)) += A / 3;
+    total_area += A;
+  }
+  return area * (density * enclosed_volume(s) / total_area);
+}
+
+Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings)
+    : rest_(rest.V), x_(rest.V), p_(rest.V), v_(Points::Zero(rest.V.rows(), 3)), w_(inverse_mass),
+      c_(build_constraints(rest)), s_(settings) {
+  if (w_.size() != rest.V.rows()) throw std::invalid_argument("inverse masses: one per vertex expected");
+  k_stretch_ = s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
+  k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
+}
+
+void Solver::project_all() {
+  Vec3 c1, c2, cb[4];
+  for (Eigen::Index i = 0; i < c_.stretch.rows(); ++i) {
+    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
+    if (project_stretch(p_.row(a).transpose(), w_(a), p_.row(b).transpose(), w_(b), c_.stretch_rest(i), k_stretch_,
+                        c1, c2)) {
+      p_.row(a) += c1.transpose();
+      p_.row(b) += c2.transpose();
+    }
+  }
+  if (k_bend_ <= 0) return;
+  for (Eigen::Index i = 0; i < c_.bending.rows(); ++i) {
+    const int q[4] = {c_.bending(i, 0), c_.bending(i, 1), c_.bending(i, 2), c_.bending(i, 3)};
+    if (project_bending(p_.row(q[0]).transpose(), w_(q[0]), p_.row(q[1]).transpose(), w_(q[1]),
+                        p_.row(q[2]).transpose(), w_(q[2]), p_.row(q[3]).transpose(), w_(q[3]), c_.bending_rest(i),
+                        k_bend_, cb))
+      for (int k = 0; k < 4; ++k) p_.row(q[k]) += cb[k].transpose();
+  }
+}
+
+void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+                  const Points& pinned_positions) {
+  const double dt = s_.time_step;
+  if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
+  v_ *= (1 - s_.damping);
+  p_ = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  for (size_t k = 0; k < pinned.size(); ++k) p_.row(pinned[k]) = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
+  for (int it = 0; it < s_.iterations; ++it) project_all();
+  v_ = (p_ - x_) / dt;  // eq. (35)
+  x_ = p_;              // eq. (34)
+}
+
+}  // namespace tb::pbd
+
+namespace tb::pbd {
+
+Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const std::vector<char>& fixed) {
+  const Eigen::VectorXd m = lumped_surface_masses(surface, density);
+  Eigen::VectorXd w(m.size());
+  for (Eigen::Index v = 0; v < m.size(); ++v) w(v) = fixed[static_cast<size_t>(v)] ? 0.0 : 1.0 / m(v);
+  return w;
+}
+
+int nearest_vertex(const Points& V, const Eigen::Vector3d& p) {
+  Eigen::Index best = 0;
+  (V.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&best);
+  return static_cast<int>(best);
+}
+
+}  // namespace tb::pbd

@@ -1,0 +1,83 @@
+// The PBD time step of paper 1.4-1.5 on a triangle surface: state (positions,
+// velocities, inverse masses) and the constraint set, wired to the stateless
+// projections of constraints.h. Shared by the pure PBD and the hybrid models.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "mesh_types.h"
+#include "parameters.h"
+
+namespace tb::pbd {
+
+/// The PBD parameters common to the pbd and hybrid models, declared once.
+std::vector<ParameterSpec> parameter_specs();
+
+struct Settings {
+  double time_step = 0.01;        ///< s
+  int iterations = 10;            ///< Gauss-Seidel sweeps per frame
+  double stretch_stiffness = 1;   ///< in [0, 1]
+  double bending_stiffness = 1;   ///< in [0, 1]
+  bool correct_stiffness = true;  ///< Mueller 2007: 1 - (1 - k)^(1/n)
+  double damping = 0.05;          ///< fraction of velocity removed per frame
+  static Settings from(const Parameters& p);
+};
+
+/// Stretch constraints on every edge, bending constraints on every interior edge.
+///   stretch  #S by 2 vertex pairs, stretch_rest #S rest lengths
+///   bending  #B by 4 (p1, p2 shared edge; p3, p4 wings), bending_rest #B angles
+struct ConstraintSet {
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> stretch;
+  Eigen::VectorXd stretch_rest;
+  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> bending;
+  Eigen::VectorXd bending_rest;
+};
+/// Builds the constraints of a closed manifold surface at its rest shape.
+ConstraintSet build_constraints(const SurfaceMesh& surface);
+
+/// Lumped masses: total mass = density x enclosed volume, shared among vertices in
+/// proportion to one third of the area of their incident triangles.
+///   returns #V masses (kg)
+Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& surface, double density);
+
+class Solver {
+ public:
+  /// inverse_mass #V (0 = fixed: the clamped support and, in the hybrid, the
+  /// control points, which the projection never moves).
+  Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings);
+
+  /// One frame. External force `force` on vertex `load_vertex` (-1: none):
+  /// eq. (31) velocities, damping, eq. (32) prediction, then positions of
+  /// `pinned` vertices set to `pinned_positions` (eq. 33; may be empty), the
+  /// Gauss-Seidel projection, and eqs. (34)-(35).
+  ///   pinned            #P vertex indices (must have inverse mass 0)
+  ///   pinned_positions  #P by 3 positions for this frame
+  void step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+            const Points& pinned_positions);
+
+  const Points& positions() const { return x_; }
+  const Points& rest_positions() const { return rest_; }
+  const ConstraintSet& constraints() const { return c_; }
+
+ private:
+  void project_all();
+  Points rest_, x_, p_, v_;
+  Eigen::VectorXd w_;
+  ConstraintSet c_;
+  Settings s_;
+  double k_stretch_, k_bend_;
+};
+
+}  // namespace tb::pbd
+
+namespace tb::pbd {
+
+/// Inverse masses from lumped_surface_masses, 0 where `fixed` is set.
+///   fixed  #V flags
+Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const std::vector<char>& fixed);
+
+/// The vertex of V nearest to p (lowest index on ties).
+int nearest_vertex(const Points& V, const Eigen::Vector3d& p);
+
+}  // namespace tb::pbd

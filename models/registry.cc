@@ -1,0 +1,37 @@
+// Every model, listed explicitly in one place (STYLE.md 7). Adding a variant: one
+// folder under models/, one line here, one scenario entry.
+#include <sstream>
+#include <stdexcept>
+
+#include "fem/fem_model.h"
+#include "hybrid/hybrid_model.h"
+#include "model.h"
+#include "pbd/pbd_model.h"
+
+namespace tb {
+
+const std::vector<ModelInfo>& registered_models() {
+  static const std::vector<ModelInfo> models = {
+      fem_model_info(),
+      pbd_model_info(),
+      hybrid_model_info(),
+  };
+  return models;
+}
+
+const ModelInfo& find_model(const std::string& name) {
+  std::ostringstream known;
+  for (const auto& m : registered_models()) {
+    if (m.name == name) return m;
+    known << (known.tellp() > 0 ? ", " : "") << m.name;
+  }
+  throw std::invalid_argument("unknown model '" + name + "' (registered: " + known.str() + ")");
+}
+
+std::vector<char> SupportBox::select(const Points& V) const {
+  std::vector<char> out(static_cast<size_t>(V.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i) out[static_cast<size_t>(i)] = contains(V.row(i).transpose());
+  return out;
+}
+
+}  // namespace tb
