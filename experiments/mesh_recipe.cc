@@ -66,13 +66,10 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
       throw MeshError(r.surface_file, std::to_string(report.self_intersections_found) +
                                           " pairs of self-intersecting triangles (set repair_self_intersections / "
                                           "--repair-self-intersections to repair them with CGAL)");
-    const Eigen::Index before = s.V.rows();
+    report.vertices_before_repair = static_cast<int>(s.V.rows());
     s = repair_self_intersections(s, r.surface_file);
     report.repaired = true;
     check_and_orient_surface(r.surface_file, s);
-    if (s.V.rows() != before)
-      throw MeshError(r.surface_file, "self-intersection repair changed the vertex count (" + std::to_string(before) +
-                                          " -> " + std::to_string(s.V.rows()) + ")");
   }
   if (r.coarse_file.empty()) return build_hybrid_from_surface(s, r.build, r.surface_file);
   const TetMesh coarse = read_volume(r.coarse_file, r.unit_scale);
@@ -97,6 +94,7 @@ nlohmann::json MeshReport::to_json(const HybridMesh& h) const {
   j["max_embedding_distance"] = max_embedding_distance(h);
   j["self_intersections_found"] = self_intersections_found;
   j["self_intersections_repaired"] = repaired;
+  if (repaired) j["surface_vertices_before_repair"] = vertices_before_repair;
   j["triangles_reoriented"] = flipped_triangles;
   return j;
 }

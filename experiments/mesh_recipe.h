@@ -27,6 +27,7 @@ struct MeshRecipe {
 struct MeshReport {
   int self_intersections_found = 0;
   bool repaired = false;
+  int vertices_before_repair = 0;  ///< the repair may remove and re-add vertices
   int flipped_triangles = 0;
   nlohmann::json to_json(const HybridMesh& mesh) const;
 };

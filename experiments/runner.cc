@@ -129,7 +129,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
 
   const Points& rest = mesh.fine_surface.V;
   const double bound = s.divergence_factor * bounding_box_diagonal(rest);
-  const int budget = info.dynamic ? s.max_frames : s.static_frames;
+  const int budget = info.dynamic ? s.max_frames : std::max(s.static_frames, s.ramp_frames);
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<size_t>(budget));
   std::vector<int> iterations;
@@ -216,7 +216,12 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
 
 std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& opt) {
   Progress progress(opt.progress);
-  std::map<std::string, std::pair<std::shared_ptr<HybridMesh>, nlohmann::json>> meshes;
+  struct BuiltMesh {
+    std::shared_ptr<HybridMesh> mesh;
+    MeshReport report;
+    nlohmann::json summary;
+  };
+  std::map<std::string, BuiltMesh> meshes;
   std::vector<CaseOutcome> outcomes;
   for (const Scenario& s : e.scenarios) {
     // The same recipe (same JSON, same folder) builds the same mesh: build it once.
@@ -230,14 +235,16 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         MeshReport report;
         mesh = std::make_shared<HybridMesh>(build_mesh(s.mesh, report));
         summary = report.to_json(*mesh);
-        meshes[key] = {mesh, summary};
+        it = meshes.emplace(key, BuiltMesh{mesh, report, summary}).first;
         progress.line(s.name + ": " + std::to_string(mesh->fine_surface.V.rows()) + " surface vertices, " +
                       std::to_string(mesh->fine_volume.T.rows()) + " fine tets, " +
                       std::to_string(mesh->coarse_volume.T.rows()) + " coarse tets, " +
                       std::to_string(mesh->control_points.size()) + " control points");
-      } else {
-        std::tie(mesh, summary) = it->second;
       }
+      mesh = it->second.mesh;
+      summary = it->second.summary;
+      // The meshes as built, for ParaView and figure 1.
+      write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
     } catch (const std::exception& ex) {
       for (const ModelRun& run : s.models) outcomes.push_back({s.name, run.case_name, false, ex.what()});
       progress.line(s.name + ": FAILED building meshes: " + ex.what());

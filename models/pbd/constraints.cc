@@ -81,10 +81,11 @@ bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3
   const Vec3 d4 = elen * m4;
   const Vec3 d1 = (p3 - p2).dot(e) / elen * m3 + (p4 - p2).dot(e) / elen * m4;
   const Vec3 d2 = -(p3 - p1).dot(e) / elen * m3 - (p4 - p1).dot(e) / elen * m4;
-  // Sign of theta: which way the second normal is turned about the edge.
+  // sign(theta): which way n2 is turned from n1 about the edge (checked against
+  // finite differences in tests/models/pbd/constraints_test.cc).
   Vec3 n1, n2;
   wing_normals(p1, p2, p3, p4, n1, n2);
-  const double sign = n1.cross(n2).dot(e) >= 0 ? 1.0 : -1.0;
+  const double sign = n1.cross(n2).dot(e) >= 0 ? -1.0 : 1.0;
   g[0] = sign * d1;
   g[1] = sign * d2;
   g[2] = sign * d3;
