@@ -1,0 +1,55 @@
+"""Accuracy metrics of one model's surface displacement against a reference.
+
+Every metric compares the same vertices (the observed set of the scenario: the
+top surface of the cube, every surface vertex of the liver), vertex by vertex.
+Correlation is blind to scale, so it is never reported alone (DESIGN.md).
+"""
+import csv
+
+import numpy as np
+
+
+def read_displacements(path):
+    """Reads a top_surface.csv / surface.csv: returns (ids #V, rest #Vx3, u #Vx3)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows or rows[0] != ["vertex", "x", "y", "z", "ux", "uy", "uz"]:
+        raise ValueError(f"{path}: not a tissuebench displacement CSV (bad header)")
+    data = np.array(rows[1:], dtype=float)
+    if data.size == 0:
+        raise ValueError(f"{path}: no vertices")
+    return data[:, 0].astype(int), data[:, 1:4], data[:, 4:7]
+
+
+def pearson(a, b):
+    """Pearson correlation of two 1-D arrays; nan if either is constant."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    da, db = a - a.mean(), b - b.mean()
+    denom = np.sqrt((da * da).sum() * (db * db).sum())
+    return float((da * db).sum() / denom) if denom > 0 else float("nan")
+
+
+def compare(u, u_ref, rest, load_point):
+    """Metrics of u (#V x 3) against u_ref (#V x 3) at the same vertices.
+
+    corr_uz:   Pearson r of the z displacements (the paper's table 1)
+    corr_mag:  Pearson r of |u|
+    rel_l2:    ||u - u_ref|| / ||u_ref|| (Frobenius over all vertices)
+    max_error: max over vertices of |u - u_ref| (m)
+    load_ratio: |u| / |u_ref| at the vertex nearest the load point
+    """
+    u = np.asarray(u, float)
+    u_ref = np.asarray(u_ref, float)
+    if u.shape != u_ref.shape:
+        raise ValueError(f"shape mismatch {u.shape} vs {u_ref.shape}")
+    ref_norm = np.linalg.norm(u_ref)
+    k = int(np.argmin(np.linalg.norm(np.asarray(rest) - np.asarray(load_point), axis=1)))
+    ref_at_load = np.linalg.norm(u_ref[k])
+    return {
+        "corr_uz": pearson(u[:, 2], u_ref[:, 2]),
+        "corr_mag": pearson(np.linalg.norm(u, axis=1), np.linalg.norm(u_ref, axis=1)),
+        "rel_l2": float(np.linalg.norm(u - u_ref) / ref_norm) if ref_norm > 0 else float("nan"),
+        "max_error": float(np.linalg.norm(u - u_ref, axis=1).max()),
+        "load_ratio": float(np.linalg.norm(u[k]) / ref_at_load) if ref_at_load > 0 else float("nan"),
+    }
