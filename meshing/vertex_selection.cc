@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <limits>
 #include <numeric>
 
 #include "mesh_checks.h"
@@ -57,7 +58,7 @@ std::vector<int> select_covering_vertices(const Points& V, const std::vector<int
 double spacing_for_target_count(const Points& V, const std::vector<int>& priority, int target_count) {
   double lo = 0, hi = bounding_box_diagonal(V);
   double best = hi;
-  int best_miss = V.rows();
+  int best_miss = std::numeric_limits<int>::max();
   for (int it = 0; it < 50; ++it) {
     const double mid = 0.5 * (lo + hi);
     const int count = static_cast<int>(select_covering_vertices(V, priority, mid).size());

@@ -61,7 +61,7 @@ class Solver {
   const ConstraintSet& constraints() const { return c_; }
 
  private:
-  void project_all();
+  void project_all(bool reverse);
   Points rest_, x_, p_, v_;
   Eigen::VectorXd w_;
   ConstraintSet c_;

@@ -1,0 +1,173 @@
+// The hybrid mesh of paper 1.2 on the cube, a non-convex solid and the liver (issue 3).
+#include "hybrid_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <unistd.h>
+
+#include <filesystem>
+#include <set>
+
+#include "atomic_file.h"
+#include "cube_generator.h"
+#include "mesh_checks.h"
+#include "mesh_io.h"
+#include "mesh_error.h"
+#include "mesh_recipe.h"
+#include "point_location.h"
+
+namespace tb {
+namespace {
+
+HybridBuildOptions paper_options() {
+  HybridBuildOptions o;
+  o.fine_tetgen.max_volume = 9e-8;  // as experiments/scenarios/cube-*.json
+  o.target_coarse_nodes = 150;
+  return o;
+}
+
+const HybridMesh& cube_hybrid() {
+  static const HybridMesh h = build_hybrid_from_surface(make_cube_surface({}), paper_options(), "cube");
+  return h;
+}
+
+TEST(CubeSurface, PaperCounts) {
+  SurfaceMesh s = make_cube_surface({});
+  EXPECT_EQ(s.V.rows(), 682);
+  EXPECT_EQ(s.F.rows(), 1360);
+  EXPECT_EQ(check_and_orient_surface("cube", s).flipped_triangles, 0);  // generated outward
+  EXPECT_NEAR(enclosed_volume(s), 1e-3, 1e-15);
+  // Top centre is a vertex; the mesh is mirror-symmetric about x = 0 and y = 0.
+  EXPECT_EQ(((s.V.rowwise() - Eigen::RowVector3d(0, 0, 0.1)).rowwise().norm().array() < 1e-15).count(), 1);
+  for (int axis : {0, 1}) {
+    Points mirrored = s.V;
+    mirrored.col(axis) *= -1;
+    for (Eigen::Index v = 0; v < s.V.rows(); ++v)
+      EXPECT_LT((s.V.rowwise() - mirrored.row(v)).rowwise().norm().minCoeff(), 1e-15);
+    // Triangles map to triangles under the mirror.
+    std::set<std::array<int, 3>> tris;
+    for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
+      std::array<int, 3> k{s.F(t, 0), s.F(t, 1), s.F(t, 2)};
+      std::sort(k.begin(), k.end());
+      tris.insert(k);
+    }
+    auto image = [&](int v) {
+      Eigen::Index i;
+      (s.V.rowwise() - mirrored.row(v)).rowwise().norm().minCoeff(&i);
+      return static_cast<int>(i);
+    };
+    for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
+      std::array<int, 3> k{image(s.F(t, 0)), image(s.F(t, 1)), image(s.F(t, 2))};
+      std::sort(k.begin(), k.end());
+      EXPECT_TRUE(tris.count(k)) << "triangle " << t << " has no mirror image about axis " << axis;
+    }
+  }
+}
+
+TEST(HybridBuilder, CubeMatchesThePaperScale) {
+  const HybridMesh& h = cube_hybrid();
+  // Paper: fine 3028 nodes / 17044 tets; coarse 153 / 411.
+  EXPECT_GT(h.fine_volume.V.rows(), 2500);
+  EXPECT_LT(h.fine_volume.V.rows(), 3600);
+  EXPECT_GT(h.fine_volume.T.rows(), 14000);
+  EXPECT_LT(h.fine_volume.T.rows(), 20000);
+  EXPECT_GT(h.coarse_volume.V.rows(), 120);
+  EXPECT_LT(h.coarse_volume.V.rows(), 180);
+  EXPECT_GT(h.coarse_volume.T.rows(), 300);
+  EXPECT_LT(h.coarse_volume.T.rows(), 650);
+  EXPECT_NEAR(total_volume(h.fine_volume), 1e-3, 1e-5);
+  EXPECT_NEAR(total_volume(h.coarse_volume), 1e-3, 1e-5);
+  // Every surface vertex is a fine-volume node, in order.
+  for (size_t v = 0; v < h.fine_surface_to_volume.size(); ++v)
+    EXPECT_EQ(h.fine_volume.V.row(h.fine_surface_to_volume[v]), h.fine_surface.V.row(static_cast<Eigen::Index>(v)));
+  // Control points are surface vertices and coincide with a coarse node.
+  int bottom = 0;
+  for (const auto& cp : h.control_points) {
+    const Eigen::RowVector3d p = h.fine_surface.V.row(cp.surface_vertex);
+    Eigen::RowVector3d q = Eigen::RowVector3d::Zero();
+    for (int k = 0; k < 4; ++k) q += cp.weights(k) * h.coarse_volume.V.row(h.coarse_volume.T(cp.coarse_tet, k));
+    EXPECT_LT((p - q).norm(), 1e-15);
+    EXPECT_EQ(cp.weights.maxCoeff(), 1.0);
+    bottom += p.z() == 0.0;
+  }
+  EXPECT_GT(bottom, 10) << "the clamped bottom face needs control points";
+}
+
+TEST(HybridBuilder, NonConvexSolidHasNoCoarseTetOutside) {
+  // An L-shaped prism (the notch x > 1, y > 1 missing), written by hand.
+  const char* obj =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
+      "v 0 0 1\nv 2 0 1\nv 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\n"
+      "f 1 3 2\nf 1 4 3\nf 1 6 4\nf 4 6 5\n"        // bottom (facing -z)
+      "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 10 11 12\n"  // top
+      "f 1 2 8\nf 1 8 7\nf 2 3 9\nf 2 9 8\nf 3 4 10\nf 3 10 9\n"
+      "f 4 5 11\nf 4 11 10\nf 5 6 12\nf 5 12 11\nf 6 1 7\nf 6 7 12\n";
+  const std::string path = std::filesystem::temp_directory_path() / ("tb-L-" + std::to_string(::getpid()) + ".obj");
+  write_file_atomically(path, obj);
+  SurfaceMesh L = read_surface(path, 0.05);
+  std::filesystem::remove(path);
+  check_and_orient_surface(path, L);
+  HybridBuildOptions o;
+  o.target_coarse_nodes = 12;  // the 12 corners: their Delaunay mesh fills the notch
+  const HybridMesh h = build_hybrid_from_surface(L, o, "L");
+  ASSERT_GT(h.coarse_volume.T.rows(), 0);
+  for (Eigen::Index t = 0; t < h.coarse_volume.T.rows(); ++t) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) c += h.coarse_volume.V.row(h.coarse_volume.T(t, k)).transpose() / 4;
+    EXPECT_GT(winding_number(L, c), 0.5) << "coarse tet " << t << " lies outside the L";
+  }
+  EXPECT_NEAR(total_volume(h.coarse_volume), enclosed_volume(L), 0.02 * enclosed_volume(L));
+}
+
+TEST(HybridBuilder, LiverWithGivenCoarseMesh) {
+  MeshRecipe r;
+  r.kind = MeshRecipe::Kind::Files;
+  r.surface_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver-smooth.obj";
+  r.coarse_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver.msh";
+  r.unit_scale = 0.01;
+  r.build_fine_volume = false;
+  MeshReport report;
+  // Self-intersections are an error unless repair is asked for.
+  EXPECT_THROW(build_mesh(r, report), MeshError);
+  r.repair_self_intersections = true;
+  const HybridMesh h = build_mesh(r, report);
+  EXPECT_EQ(report.self_intersections_found, 7);
+  EXPECT_EQ(h.coarse_volume.V.rows(), 181);
+  EXPECT_EQ(h.coarse_volume.T.rows(), 596);
+  const double d = max_embedding_distance(h);
+  EXPECT_TRUE(std::isfinite(d));
+  EXPECT_LT(d, 0.005);  // every fine vertex within 5 mm of its coarse tet
+  EXPECT_GT(h.control_points.size(), 50u);
+  for (const auto& cp : h.control_points) {
+    EXPECT_GE(cp.coarse_tet, 0);
+    EXPECT_NEAR(cp.weights.sum(), 1.0, 1e-12);
+  }
+}
+
+TEST(HybridBuilder, SameInputSameFilesByteForByte) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("tb-det-" + std::to_string(::getpid()));
+  MeshReport report;
+  for (const char* run : {"a", "b"}) {
+    const HybridMesh h = build_hybrid_from_surface(make_cube_surface({}), paper_options(), "cube");
+    write_mesh_folder((root / run).string(), h, report);
+  }
+  for (const char* f : {"fine_volume.vtu", "coarse_volume.vtu", "control_points.csv", "summary.json"})
+    EXPECT_EQ(read_file((root / "a" / f).string()), read_file((root / "b" / f).string())) << f;
+  fs::remove_all(root);
+}
+
+TEST(TetgenDriver, MissingProgramIsAClearError) {
+  setenv("TISSUEBENCH_TETGEN", "/nonexistent/tetgen", 1);
+  try {
+    tetrahedralize_surface(make_cube_surface({}), {}, "cube");
+    FAIL();
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no such program"), std::string::npos) << e.what();
+  }
+  unsetenv("TISSUEBENCH_TETGEN");
+}
+
+}  // namespace
+}  // namespace tb

@@ -1,0 +1,192 @@
+// The FEM reference against exact solutions and physical invariants (issue 4).
+#include "elastic_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <Eigen/SparseCholesky>
+
+#include "cube_generator.h"
+#include "hybrid_builder.h"
+#include "stiffness_assembly.h"
+#include "tetgen_driver.h"
+
+namespace tb {
+namespace {
+
+TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume) {
+  SurfaceMesh s = make_cube_surface({1.0, 1.0, nx, ny, nz});
+  s.V.col(0) = (s.V.col(0).array() + 0.5) * lx;  // [0, lx]
+  s.V.col(1) = (s.V.col(1).array() + 0.5) * ly;
+  s.V.col(2) *= lz;
+  TetgenOptions o;
+  o.max_volume = max_volume;
+  return tetrahedralize_surface(s, o, "box");
+}
+
+/// Solves K u = f with u prescribed on `fixed` dofs (values in u), others free.
+Eigen::VectorXd solve_with_dirichlet(const Eigen::SparseMatrix<double>& K, const std::vector<bool>& fixed,
+                                     Eigen::VectorXd u, const Eigen::VectorXd& f) {
+  std::vector<int> free;
+  for (int d = 0; d < K.rows(); ++d)
+    if (!fixed[static_cast<size_t>(d)]) free.push_back(d);
+  Eigen::VectorXd rhs = f - K * u;  // move the prescribed values to the right-hand side
+  Eigen::SparseMatrix<double> Kff(static_cast<Eigen::Index>(free.size()), static_cast<Eigen::Index>(free.size()));
+  std::vector<int> index(static_cast<size_t>(K.rows()), -1);
+  for (size_t i = 0; i < free.size(); ++i) index[static_cast<size_t>(free[i])] = static_cast<int>(i);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+      if (index[static_cast<size_t>(it.row())] >= 0 && index[static_cast<size_t>(it.col())] >= 0)
+        t.emplace_back(index[static_cast<size_t>(it.row())], index[static_cast<size_t>(it.col())], it.value());
+  Kff.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd rf(static_cast<Eigen::Index>(free.size()));
+  for (size_t i = 0; i < free.size(); ++i) rf(static_cast<Eigen::Index>(i)) = rhs(free[i]);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kff);
+  const Eigen::VectorXd uf = ldlt.solve(rf);
+  for (size_t i = 0; i < free.size(); ++i) u(free[i]) = uf(static_cast<Eigen::Index>(i));
+  return u;
+}
+
+TEST(Stiffness, PatchTestLinearFieldIsExact) {
+  const TetMesh m = box_mesh(1, 1, 1, 3, 3, 3, 0.01);  // unstructured TetGen mesh with interior nodes
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(m, 1000, 0.3);
+  Eigen::Matrix3d A;
+  A << 0.01, -0.02, 0.005, 0.003, 0.02, -0.01, 0.004, 0.001, -0.015;
+  const Eigen::Vector3d b(0.1, -0.2, 0.3);
+  // Boundary nodes: on a face of the unit box.
+  std::vector<bool> fixed(static_cast<size_t>(K.rows()), false);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(K.rows()), exact(K.rows());
+  int interior = 0;
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    const Eigen::Vector3d x = m.V.row(v).transpose();
+    exact.segment<3>(3 * v) = A * x + b;
+    const bool on_boundary = (x.array() < 1e-12).any() || (x.array() > 1 - 1e-12).any();
+    interior += !on_boundary;
+    for (int c = 0; c < 3; ++c) fixed[static_cast<size_t>(3 * v + c)] = on_boundary;
+    if (on_boundary) u.segment<3>(3 * v) = exact.segment<3>(3 * v);
+  }
+  ASSERT_GT(interior, 5);
+  const Eigen::VectorXd solved = solve_with_dirichlet(K, fixed, u, Eigen::VectorXd::Zero(K.rows()));
+  EXPECT_LT((solved - exact).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(Stiffness, RigidMotionsAreInTheNullSpace) {
+  const TetMesh m = box_mesh(1, 1, 1, 2, 2, 2, 0.05);
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(m, 1000, 0.3);
+  Eigen::VectorXd t(K.rows()), r(K.rows());
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    t.segment<3>(3 * v) = Eigen::Vector3d(1, 2, 3);
+    r.segment<3>(3 * v) = Eigen::Vector3d(0, 0, 1).cross(Eigen::Vector3d(m.V.row(v).transpose()));
+  }
+  EXPECT_LT((K * t).norm(), 1e-9 * K.norm());
+  EXPECT_LT((K * r).norm(), 1e-9 * K.norm());
+}
+
+TEST(Stiffness, BarUnderAxialLoadMatchesFLoverEA) {
+  // nu = 0: the exact solution is linear, so P1 reproduces F L / (E A).
+  const double L = 1, a = 0.1, E = 2000, F = 3;
+  const TetMesh m = box_mesh(L, a, a, 10, 2, 2, 1e-4);
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(m, E, 0.0);
+  std::vector<bool> fixed(static_cast<size_t>(K.rows()), false);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(K.rows());
+  // Consistent nodal forces of a uniform traction on the end face x = L: each
+  // boundary triangle there gives area/3 to its vertices. Use the tets' faces.
+  static const int faces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+    for (const auto& fc : faces) {
+      bool at_end = true;
+      for (int k : fc) at_end = at_end && m.V(m.T(t, k), 0) > L - 1e-12;
+      if (!at_end) continue;
+      const Eigen::Vector3d p0 = m.V.row(m.T(t, fc[0])), p1 = m.V.row(m.T(t, fc[1])), p2 = m.V.row(m.T(t, fc[2]));
+      const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+      for (int k : fc) f(3 * m.T(t, k)) += F / (a * a) * area / 3;
+    }
+  EXPECT_NEAR(f.sum(), F, 1e-12);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    if (m.V(v, 0) < 1e-12)
+      for (int c = 0; c < 3; ++c) fixed[static_cast<size_t>(3 * v + c)] = true;
+  const Eigen::VectorXd u = solve_with_dirichlet(K, fixed, Eigen::VectorXd::Zero(K.rows()), f);
+  const double expected = F * L / (E * a * a);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    if (m.V(v, 0) > L - 1e-12) EXPECT_NEAR(u(3 * v), expected, 0.01 * expected);
+}
+
+class CubeFem : public ::testing::Test {
+ protected:
+  static const HybridMesh& mesh() {
+    static const HybridMesh h = [] {
+      HybridBuildOptions o;
+      o.fine_tetgen.max_volume = 9e-8;
+      return build_hybrid_from_surface(make_cube_surface({}), o, "cube");
+    }();
+    return h;
+  }
+  static std::vector<char> bottom() {
+    SupportBox b{{-1, -1, -1e-9}, {1, 1, 1e-9}};
+    return b.select(mesh().fine_volume.V);
+  }
+};
+
+TEST_F(CubeFem, ReactionsBalanceTheLoadAndSolutionIsSymmetric) {
+  ElasticSolver solver(mesh().fine_volume, Material{}, bottom(), SolveMode::Direct);
+  const LoadStencil s = solver.locate_load({0, 0, 0.1});
+  Eigen::VectorXd u;
+  solver.solve(s, {0, 0, 1}, u);
+  // Reactions: K u at the clamped dofs; with the applied force they sum to zero.
+  const Eigen::VectorXd Ku = solver.full_stiffness() * u;
+  const auto clamped = bottom();
+  Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
+  for (size_t v = 0; v < clamped.size(); ++v)
+    if (clamped[v]) reaction += Ku.segment<3>(3 * static_cast<Eigen::Index>(v));
+  EXPECT_LT((reaction + Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
+  // Mirror symmetry of u_z about x = 0 at the surface vertices. The surface is
+  // symmetric but TetGen's interior is not, and the point load is singular, so
+  // the largest difference (next to the load) is measured here at 5.2% of max u_z;
+  // the stated tolerance is 10%. A mirror-symmetric volume mesh would allow 1e-12.
+  const Points& V = mesh().fine_surface.V;
+  const double umax = u.cwiseAbs().maxCoeff();
+  double worst = 0;
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    Eigen::RowVector3d m = V.row(v);
+    m.x() = -m.x();
+    Eigen::Index w;
+    (V.rowwise() - m).rowwise().norm().minCoeff(&w);
+    worst = std::max(worst, std::abs(u(3 * v + 2) - u(3 * w + 2)));
+  }
+  EXPECT_LT(worst, 0.10 * umax) << "asymmetry of u_z about x = 0";
+  RecordProperty("max_asymmetry_relative", std::to_string(worst / umax));
+}
+
+TEST_F(CubeFem, PushIsMinusPullAndSolversAgree) {
+  ElasticSolver direct(mesh().fine_volume, Material{}, bottom(), SolveMode::Direct);
+  ElasticSolver iterative(mesh().fine_volume, Material{}, bottom(), SolveMode::Iterative, 1e-10);
+  const LoadStencil s = direct.locate_load({0, 0, 0.1});
+  Eigen::VectorXd pull, push, it;
+  direct.solve(s, {0, 0, 1}, pull);
+  direct.solve(s, {0, 0, -1}, push);
+  iterative.solve(s, {0, 0, 1}, it);
+  EXPECT_LT((pull + push).norm(), 1e-12 * pull.norm());
+  EXPECT_LT((it - pull).norm(), 1e-6 * pull.norm());
+  EXPECT_GT(iterative.last_iterations(), 0);
+}
+
+TEST_F(CubeFem, LoadOutsideTheMeshIsAnErrorNamingThePoint) {
+  ElasticSolver solver(mesh().fine_volume, Material{}, bottom(), SolveMode::Direct);
+  try {
+    solver.locate_load({0, 0, 0.2});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("(0, 0, 0.2) is outside the mesh"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(CubeFem, NoSupportIsAnError) {
+  EXPECT_THROW(ElasticSolver(mesh().fine_volume, Material{}, std::vector<char>(mesh().fine_volume.V.rows(), 0),
+                             SolveMode::Direct),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tb
