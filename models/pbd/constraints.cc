@@ -57,7 +57,12 @@ double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const 
   return normal_angle(p1, p2, p3, p4) - rest_angle;
 }
 
-bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4]) {
+namespace {
+
+/// The gradient of C (see bending_gradient) and the angle arccos(n1 . n2), from one
+/// set of cross products. Returns false for a degenerate configuration.
+bool bending_gradient_and_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4],
+                                double& angle) {
   // Bridson, Marino, Fedkiw 2003 (as in Bender's solve_DihedralConstraint): with
   // the shared edge e = p2 - p1 and the wing normals scaled by 1/|n|^2, m3 and m4,
   // the gradient of the signed angle theta between the two normals is (up to one
@@ -65,44 +70,53 @@ bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3
   // combinations below from the wings' projections on e: bounded as the
   // triangles become coplanar. arccos(n1 . n2) = |theta|, so
   // grad C = sign(theta) grad theta.
-  for (int k = 0; k < 4; ++k) g[k].setZero();
   const Vec3 e = p2 - p1;
   const double elen = e.norm();
   if (elen <= kTiny) return false;
   // Bridson's N1 = (p3 - p1) x (p3 - p2) and N2 = (p4 - p2) x (p4 - p1) equal the
   // wing normals n1, n2 of wing_normals().
-  Vec3 m3 = (p3 - p1).cross(p3 - p2);
-  Vec3 m4 = (p4 - p2).cross(p4 - p1);
-  const double a3 = m3.squaredNorm(), a4 = m4.squaredNorm();
+  const Vec3 n1 = (p3 - p1).cross(p3 - p2);
+  const Vec3 n2 = (p4 - p2).cross(p4 - p1);
+  const double a3 = n1.squaredNorm(), a4 = n2.squaredNorm();
   if (a3 <= kTiny || a4 <= kTiny) return false;
-  m3 /= a3;
-  m4 /= a4;
-  const Vec3 d3 = elen * m3;
-  const Vec3 d4 = elen * m4;
-  const Vec3 d1 = (p3 - p2).dot(e) / elen * m3 + (p4 - p2).dot(e) / elen * m4;
-  const Vec3 d2 = -(p3 - p1).dot(e) / elen * m3 - (p4 - p1).dot(e) / elen * m4;
+  const Vec3 m3 = n1 / a3, m4 = n2 / a4;
+  angle = std::acos(std::clamp(n1.dot(n2) / std::sqrt(a3 * a4), -1.0, 1.0));
   // sign(theta): which way n2 is turned from n1 about the edge (checked against
   // finite differences in tests/models/pbd/constraints_test.cc).
-  Vec3 n1, n2;
-  wing_normals(p1, p2, p3, p4, n1, n2);
   const double sign = n1.cross(n2).dot(e) >= 0 ? -1.0 : 1.0;
-  g[0] = sign * d1;
-  g[1] = sign * d2;
-  g[2] = sign * d3;
-  g[3] = sign * d4;
+  const double inv = 1.0 / elen;
+  g[2] = (sign * elen) * m3;
+  g[3] = (sign * elen) * m4;
+  g[0] = sign * ((p3 - p2).dot(e) * inv * m3 + (p4 - p2).dot(e) * inv * m4);
+  g[1] = -sign * ((p3 - p1).dot(e) * inv * m3 + (p4 - p1).dot(e) * inv * m4);
   return true;
+}
+
+}  // namespace
+
+bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4]) {
+  double angle = 0;
+  if (bending_gradient_and_angle(p1, p2, p3, p4, g, angle)) return true;
+  for (int k = 0; k < 4; ++k) g[k].setZero();
+  return false;
 }
 
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
                      double w4, double rest_angle, double stiffness, Vec3 corr[4]) {
-  for (int k = 0; k < 4; ++k) corr[k].setZero();
   Vec3 g[4];
-  if (!bending_gradient(p1, p2, p3, p4, g)) return false;
+  double angle = 0;
+  if (!bending_gradient_and_angle(p1, p2, p3, p4, g, angle)) {
+    for (int k = 0; k < 4; ++k) corr[k].setZero();
+    return false;
+  }
   const double w[4] = {w1, w2, w3, w4};
   double denom = 0;
   for (int k = 0; k < 4; ++k) denom += w[k] * g[k].squaredNorm();
-  if (denom <= kTiny) return false;
-  const double c = bending_constraint(p1, p2, p3, p4, rest_angle);
+  if (denom <= kTiny) {
+    for (int k = 0; k < 4; ++k) corr[k].setZero();
+    return false;
+  }
+  const double c = angle - rest_angle;
   const double s = -stiffness * c / denom;
   for (int k = 0; k < 4; ++k) corr[k] = s * w[k] * g[k];
   return true;

@@ -85,6 +85,16 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
     : rest_(rest.V), x_(rest.V), p_(rest.V), v_(Points::Zero(rest.V.rows(), 3)), w_(inverse_mass),
       c_(build_constraints(rest)), s_(settings) {
   if (w_.size() != rest.V.rows()) throw std::invalid_argument("inverse masses: one per vertex expected");
+  // The projection's working copy of the constraints: those that can move
+  // something (a constraint whose vertices are all fixed is skipped).
+  for (Eigen::Index i = 0; i < c_.stretch.rows(); ++i) {
+    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
+    if (w_(a) > 0 || w_(b) > 0) stretch_.push_back({a, b, c_.stretch_rest(i)});
+  }
+  for (Eigen::Index i = 0; i < c_.bending.rows(); ++i) {
+    BendItem item{{c_.bending(i, 0), c_.bending(i, 1), c_.bending(i, 2), c_.bending(i, 3)}, c_.bending_rest(i)};
+    if (w_(item.q[0]) > 0 || w_(item.q[1]) > 0 || w_(item.q[2]) > 0 || w_(item.q[3]) > 0) bending_.push_back(item);
+  }
   k_stretch_ = s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
 }
@@ -92,25 +102,22 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
 void Solver::project_all(bool reverse) {
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
+  auto P = [this](int i) { return Eigen::Map<Vec3>(p_.data() + 3 * static_cast<Eigen::Index>(i)); };
   Vec3 c1, c2, cb[4];
-  const Eigen::Index ns = c_.stretch.rows(), nb = c_.bending.rows();
-  for (Eigen::Index k = 0; k < ns; ++k) {
-    const Eigen::Index i = reverse ? ns - 1 - k : k;
-    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
-    if (project_stretch(p_.row(a).transpose(), w_(a), p_.row(b).transpose(), w_(b), c_.stretch_rest(i), k_stretch_,
-                        c1, c2)) {
-      p_.row(a) += c1.transpose();
-      p_.row(b) += c2.transpose();
+  const size_t ns = stretch_.size(), nb = bending_.size();
+  for (size_t k = 0; k < ns; ++k) {
+    const StretchItem& c = stretch_[reverse ? ns - 1 - k : k];
+    if (project_stretch(P(c.a), w_[c.a], P(c.b), w_[c.b], c.rest, k_stretch_, c1, c2)) {
+      P(c.a) += c1;
+      P(c.b) += c2;
     }
   }
   if (k_bend_ <= 0) return;
-  for (Eigen::Index k = 0; k < nb; ++k) {
-    const Eigen::Index i = reverse ? nb - 1 - k : k;
-    const int q[4] = {c_.bending(i, 0), c_.bending(i, 1), c_.bending(i, 2), c_.bending(i, 3)};
-    if (project_bending(p_.row(q[0]).transpose(), w_(q[0]), p_.row(q[1]).transpose(), w_(q[1]),
-                        p_.row(q[2]).transpose(), w_(q[2]), p_.row(q[3]).transpose(), w_(q[3]), c_.bending_rest(i),
-                        k_bend_, cb))
-      for (int k = 0; k < 4; ++k) p_.row(q[k]) += cb[k].transpose();
+  for (size_t k = 0; k < nb; ++k) {
+    const BendItem& c = bending_[reverse ? nb - 1 - k : k];
+    if (project_bending(P(c.q[0]), w_[c.q[0]], P(c.q[1]), w_[c.q[1]], P(c.q[2]), w_[c.q[2]], P(c.q[3]), w_[c.q[3]],
+                        c.rest, k_bend_, cb))
+      for (int j = 0; j < 4; ++j) P(c.q[j]) += cb[j];
   }
 }
 

@@ -62,9 +62,19 @@ class Solver {
 
  private:
   void project_all(bool reverse);
+  struct StretchItem {
+    int a, b;
+    double rest;
+  };
+  struct BendItem {
+    int q[4];
+    double rest;
+  };
   Points rest_, x_, p_, v_;
   Eigen::VectorXd w_;
   ConstraintSet c_;
+  std::vector<StretchItem> stretch_;
+  std::vector<BendItem> bending_;
   Settings s_;
   double k_stretch_, k_bend_;
 };
