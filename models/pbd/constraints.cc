@@ -35,26 +35,33 @@ bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, doubl
 
 namespace {
 /// Normals (unnormalised) of triangles (p1, p2, p3) and (p2, p1, p4): consistently
-/// oriented, so that they coincide when the two triangles are coplanar and unfolded.
+/// oriented, so that they coincide when the two triangles are coplanar and
+/// unfolded. Written as Bridson's N1 = (p3 - p1) x (p3 - p2), N2 = (p4 - p2) x
+/// (p4 - p1), the same arithmetic the gradient uses, so the rest angle and the
+/// angle at rest are bitwise equal (zero load leaves the surface exactly at rest).
 void wing_normals(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3& n1, Vec3& n2) {
-  n1 = (p2 - p1).cross(p3 - p1);
-  n2 = (p4 - p2).cross(p2 - p1);
+  n1 = (p3 - p1).cross(p3 - p2);
+  n2 = (p4 - p2).cross(p4 - p1);
 }
+
+/// The angle between two vectors, arccos of their normalised dot product computed
+/// as atan2(|a x b|, a . b): accurate near 0 and pi, where arccos loses half the
+/// digits, and never NaN (the clamp of the arccos argument, done exactly).
+double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 }  // namespace
 
 double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
   Vec3 n1, n2;
   wing_normals(p1, p2, p3, p4, n1, n2);
-  const double l1 = n1.norm(), l2 = n2.norm();
-  if (l1 <= kTiny || l2 <= kTiny) return 0;
-  return std::acos(std::clamp(n1.dot(n2) / (l1 * l2), -1.0, 1.0));
+  if (n1.squaredNorm() <= kTiny || n2.squaredNorm() <= kTiny) return 0;
+  return angle_between(n1, n2);
 }
 
 double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double rest_angle) {
   Vec3 n1, n2;
   wing_normals(p1, p2, p3, p4, n1, n2);
-  if (n1.norm() <= kTiny || n2.norm() <= kTiny) return 0;
-  return normal_angle(p1, p2, p3, p4) - rest_angle;
+  if (n1.squaredNorm() <= kTiny || n2.squaredNorm() <= kTiny) return 0;
+  return angle_between(n1, n2) - rest_angle;
 }
 
 namespace {
@@ -73,14 +80,12 @@ bool bending_gradient_and_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, 
   const Vec3 e = p2 - p1;
   const double elen = e.norm();
   if (elen <= kTiny) return false;
-  // Bridson's N1 = (p3 - p1) x (p3 - p2) and N2 = (p4 - p2) x (p4 - p1) equal the
-  // wing normals n1, n2 of wing_normals().
-  const Vec3 n1 = (p3 - p1).cross(p3 - p2);
-  const Vec3 n2 = (p4 - p2).cross(p4 - p1);
+  Vec3 n1, n2;
+  wing_normals(p1, p2, p3, p4, n1, n2);
   const double a3 = n1.squaredNorm(), a4 = n2.squaredNorm();
   if (a3 <= kTiny || a4 <= kTiny) return false;
   const Vec3 m3 = n1 / a3, m4 = n2 / a4;
-  angle = std::acos(std::clamp(n1.dot(n2) / std::sqrt(a3 * a4), -1.0, 1.0));
+  angle = angle_between(n1, n2);
   // sign(theta): which way n2 is turned from n1 about the edge (checked against
   // finite differences in tests/models/pbd/constraints_test.cc).
   const double sign = n1.cross(n2).dot(e) >= 0 ? -1.0 : 1.0;

@@ -20,7 +20,8 @@ bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, doubl
 
 /// Bending constraint across the edge (p1, p2) shared by two triangles with the
 /// wing vertices p3 and p4, eq. (19) as intended: C = arccos(n1 . n2) - rest_angle,
-/// the dot product clamped to [-1, 1]. The normals are those of eqs. (20)-(21) but
+/// evaluated as atan2(|n1 x n2|, n1 . n2), which is the same angle without
+/// arccos's loss of accuracy (or NaN) at 0 and pi. The normals are those of eqs. (20)-(21) but
 /// consistently oriented, n1 of (p1, p2, p3) and n2 of (p2, p1, p4), so a flat pair
 /// has angle 0 (eqs. 20-21 as printed give pi there, where arccos is singular).
 /// A degenerate triangle (zero normal) gives C = 0.

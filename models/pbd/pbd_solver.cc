@@ -39,7 +39,7 @@ ConstraintSet build_constraints(const SurfaceMesh& s) {
   for (Eigen::Index t = 0; t < s.F.rows(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int a = s.F(t, k), b = s.F(t, (k + 1) % 3), o = s.F(t, (k + 2) % 3);
-      edges[{std::min(a, b), std::max(a, b)}].push_back({a, b, o});
+      edges[{std::min(a, b), std::max(a, b)}].push_back({{a, b, o}});
     }
   ConstraintSet c;
   c.stretch.resize(static_cast<Eigen::Index>(edges.size()), 2);
@@ -54,7 +54,7 @@ ConstraintSet build_constraints(const SurfaceMesh& s) {
       // p1 -> p2 as the first triangle traverses the edge, p3 its opposite vertex,
       // p4 the other triangle's: triangles (p1, p2, p3) and (p2, p1, p4), as
       // constraints.h expects.
-      bends.push_back({tris[0][0], tris[0][1], tris[0][2], tris[1][2]});
+      bends.push_back({{tris[0][0], tris[0][1], tris[0][2], tris[1][2]}});
     }
   }
   c.bending.resize(static_cast<Eigen::Index>(bends.size()), 4);

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <Eigen/SparseCholesky>
+#include <cmath>
 
 #include "cube_generator.h"
 #include "hybrid_builder.h"
@@ -110,7 +111,77 @@ TEST(Stiffness, BarUnderAxialLoadMatchesFLoverEA) {
   const Eigen::VectorXd u = solve_with_dirichlet(K, fixed, Eigen::VectorXd::Zero(K.rows()), f);
   const double expected = F * L / (E * a * a);
   for (Eigen::Index v = 0; v < m.V.rows(); ++v)
-    if (m.V(v, 0) > L - 1e-12) EXPECT_NEAR(u(3 * v), expected, 0.01 * expected);
+    if (m.V(v, 0) > L - 1e-12) {
+      EXPECT_NEAR(u(3 * v), expected, 0.01 * expected);
+    }
+}
+
+/// Manufactured solution u_i = sin(pi x) sin(pi y) sin(pi z) (every component) on
+/// the unit cube, with the body force f = -div sigma(u) = -((lambda + mu)
+/// grad div u + mu laplace u) and u prescribed on the boundary. Returns the L2
+/// error of the P1 solution (4-point quadrature per tet).
+double manufactured_l2_error(int n) {
+  const double E = 1000, nu = 0.3, lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const double pi = M_PI;
+  auto exact = [&](const Eigen::Vector3d& x) {
+    return Eigen::Vector3d::Constant(std::sin(pi * x(0)) * std::sin(pi * x(1)) * std::sin(pi * x(2)));
+  };
+  auto body_force = [&](const Eigen::Vector3d& x) {
+    const Eigen::Array3d s = (pi * x).array().sin(), c = (pi * x).array().cos();
+    const double phi = s.prod();
+    // Second derivatives of phi: phi_ii = -pi^2 phi, phi_ij = pi^2 c_i c_j s_k.
+    Eigen::Matrix3d H;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        H(i, j) = i == j ? -pi * pi * phi : pi * pi * c(i) * c(j) * s(3 - i - j);
+    const Eigen::Vector3d grad_div = H.rowwise().sum();  // d_i (phi_x + phi_y + phi_z)
+    const Eigen::Vector3d laplace = Eigen::Vector3d::Constant(-3 * pi * pi * phi);
+    return Eigen::Vector3d(-((lambda + mu) * grad_div + mu * laplace));
+  };
+  const TetMesh m = box_mesh(1, 1, 1, n, n, n, 1.0 / (6.0 * n * n * n));
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(m, E, nu);
+  // 4-point degree-2 rule on the reference tet (barycentric a, b, b, b).
+  const double a = 0.5854101966249685, b = 0.1381966011250105;
+  const Eigen::Matrix4d bary = (Eigen::Matrix4d() << a, b, b, b, b, a, b, b, b, b, a, b, b, b, b, a).finished();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(K.rows());
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    Eigen::Matrix<double, 3, 4> X;
+    for (int k = 0; k < 4; ++k) X.col(k) = m.V.row(m.T(t, k)).transpose();
+    const double vol = std::abs((X.col(1) - X.col(0)).dot((X.col(2) - X.col(0)).cross(X.col(3) - X.col(0)))) / 6;
+    for (int q = 0; q < 4; ++q) {
+      const Eigen::Vector3d fq = body_force(X * bary.col(q));
+      for (int k = 0; k < 4; ++k) f.segment<3>(3 * m.T(t, k)) += vol / 4 * bary(k, q) * fq;
+    }
+  }
+  std::vector<bool> fixed(static_cast<size_t>(K.rows()), false);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(K.rows());
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    const Eigen::Vector3d x = m.V.row(v).transpose();
+    if ((x.array() < 1e-12).any() || (x.array() > 1 - 1e-12).any()) {
+      for (int c = 0; c < 3; ++c) fixed[static_cast<size_t>(3 * v + c)] = true;
+      u.segment<3>(3 * v) = exact(x);
+    }
+  }
+  u = solve_with_dirichlet(K, fixed, u, f);
+  double err2 = 0;
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    Eigen::Matrix<double, 3, 4> X, U;
+    for (int k = 0; k < 4; ++k) {
+      X.col(k) = m.V.row(m.T(t, k)).transpose();
+      U.col(k) = u.segment<3>(3 * m.T(t, k));
+    }
+    const double vol = std::abs((X.col(1) - X.col(0)).dot((X.col(2) - X.col(0)).cross(X.col(3) - X.col(0)))) / 6;
+    for (int q = 0; q < 4; ++q) err2 += vol / 4 * (U * bary.col(q) - exact(X * bary.col(q))).squaredNorm();
+  }
+  return std::sqrt(err2);
+}
+
+TEST(Stiffness, ManufacturedSolutionConvergesAtSecondOrderInL2) {
+  const double e4 = manufactured_l2_error(4), e8 = manufactured_l2_error(8), e16 = manufactured_l2_error(16);
+  const double rate1 = std::log2(e4 / e8), rate2 = std::log2(e8 / e16);
+  RecordProperty("l2_errors", std::to_string(e4) + " " + std::to_string(e8) + " " + std::to_string(e16));
+  EXPECT_GT(rate2, 1.7) << "L2 errors " << e4 << ", " << e8 << ", " << e16 << " (rates " << rate1 << ", " << rate2 << ")";
+  EXPECT_LT(rate2, 2.5);
 }
 
 class CubeFem : public ::testing::Test {

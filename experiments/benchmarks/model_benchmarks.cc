@@ -1,0 +1,147 @@
+// Google Benchmark of setup and per-frame cost (issues 4 and 5). Named arguments,
+// counters (dofs, tets, vertices, constraints, solver iterations), milliseconds.
+// Run: build/experiments/benchmarks/tissuebench_benchmarks --benchmark_out=FILE
+//      --benchmark_out_format=json (scripts/benchmark does this).
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "cube_generator.h"
+#include "elastic_solver.h"
+#include "hybrid_builder.h"
+#include "mesh_recipe.h"
+#include "model.h"
+
+namespace tb {
+namespace {
+
+const SupportBox kCubeBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
+const SupportBox kLiverBottom{{-1, -1, -1}, {1, 1, -0.0101}};  // as experiments/scenarios/liver-*.json
+const PointLoad kCubeLoad{{0, 0, 0.1}, {0, 0, 1}};
+const PointLoad kLiverLoad{{-0.01731, 0.02453, 0.0253}, {0, 0, 0.1}};
+
+/// The paper's cube with the fine TetGen volume bound divided by `refinement`
+/// (1: the paper's ~3000 nodes; 4 and 16: about 4x and 16x more tets). Cached.
+const HybridMesh& cube_mesh(int refinement) {
+  static std::map<int, std::unique_ptr<HybridMesh>> cache;
+  auto& m = cache[refinement];
+  if (!m) {
+    HybridBuildOptions o;
+    o.fine_tetgen.max_volume = 9e-8 / refinement;
+    m = std::make_unique<HybridMesh>(build_hybrid_from_surface(make_cube_surface({}), o, "cube"));
+  }
+  return *m;
+}
+
+const HybridMesh& liver_mesh() {
+  static const HybridMesh h = [] {
+    MeshRecipe r;
+    r.kind = MeshRecipe::Kind::Files;
+    r.surface_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver-smooth.obj";
+    r.coarse_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver.msh";
+    r.unit_scale = 0.01;
+    r.repair_self_intersections = true;
+    r.build_fine_volume = false;
+    MeshReport report;
+    return build_mesh(r, report);
+  }();
+  return h;
+}
+
+/// A fine cube surface only (PBD needs no volume), n divisions per side.
+const HybridMesh& surface_only_cube(int n) {
+  static std::map<int, std::unique_ptr<HybridMesh>> cache;
+  auto& m = cache[n];
+  if (!m) {
+    m = std::make_unique<HybridMesh>();
+    m->fine_surface = make_cube_surface({0.1, 0.1, n, n, n});
+  }
+  return *m;
+}
+
+SolveMode mode_of(int64_t arg) { return arg == 0 ? SolveMode::Direct : SolveMode::Iterative; }
+
+void BM_FemSetup(benchmark::State& state) {
+  const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
+  const auto clamped = kCubeBottom.select(h.fine_volume.V);
+  for (auto _ : state) {
+    ElasticSolver solver(h.fine_volume, Material{}, clamped, mode_of(state.range(1)));
+    benchmark::DoNotOptimize(&solver);
+  }
+  state.counters["dofs"] = static_cast<double>(3 * h.fine_volume.V.rows());
+  state.counters["tets"] = static_cast<double>(h.fine_volume.T.rows());
+}
+
+void BM_FemFrame(benchmark::State& state) {
+  const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
+  ElasticSolver solver(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V), mode_of(state.range(1)));
+  const LoadStencil s = solver.locate_load(kCubeLoad.point);
+  Eigen::VectorXd u;
+  solver.solve(s, kCubeLoad.force, u);
+  // The load changes every frame (a ramp), so a warm-started CG has work to do.
+  int frame = 0;
+  double iterations = 0;
+  for (auto _ : state) {
+    const double scale = 1.0 + 0.01 * (++frame % 50);
+    solver.solve(s, scale * kCubeLoad.force, u);
+    iterations += solver.last_iterations();
+  }
+  state.counters["dofs"] = static_cast<double>(3 * h.fine_volume.V.rows());
+  state.counters["cg_iterations"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+}
+
+std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
+                                  int iterations) {
+  const ModelInfo& info = find_model(name);
+  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, {{"iterations", iterations}}, name)};
+  auto m = info.create();
+  m->setup(p);
+  return m;
+}
+
+/// One frame of a dynamic model. range(0): 0 cube, 1 liver; range(1): iterations.
+void dynamic_frame(benchmark::State& state, const std::string& model) {
+  const bool liver = state.range(0) == 1;
+  const HybridMesh& mesh = liver ? liver_mesh() : cube_mesh(1);
+  auto m = make_model(model, mesh, liver ? kLiverBottom : kCubeBottom, static_cast<int>(state.range(1)));
+  const PointLoad load = liver ? kLiverLoad : kCubeLoad;
+  for (int f = 0; f < 200; ++f) m->step(load);  // measure near the steady state
+  for (auto _ : state) m->step(load);
+  state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+}
+void BM_PbdFrame(benchmark::State& state) { dynamic_frame(state, "pbd"); }
+void BM_HybridFrame(benchmark::State& state) { dynamic_frame(state, "hybrid"); }
+
+/// The coarse FEM inside the hybrid alone: back-substitution on the coarse mesh.
+void BM_HybridCoarseSolve(benchmark::State& state) {
+  const HybridMesh& h = cube_mesh(1);
+  ElasticSolver coarse(h.coarse_volume, Material{}, kCubeBottom.select(h.coarse_volume.V), SolveMode::Direct);
+  const LoadStencil s = coarse.locate_load(kCubeLoad.point);
+  Eigen::VectorXd u;
+  for (auto _ : state) coarse.solve(s, kCubeLoad.force, u);
+  state.counters["dofs"] = static_cast<double>(3 * h.coarse_volume.V.rows());
+}
+
+/// PBD cost against surface size: range(0) divisions per cube side.
+void BM_PbdFrameScaling(benchmark::State& state) {
+  const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
+  auto m = make_model("pbd", mesh, kCubeBottom, 10);
+  for (auto _ : state) m->step(kCubeLoad);
+  state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+  state.counters["ns_per_vertex"] = benchmark::Counter(
+      static_cast<double>(mesh.fine_surface.V.rows()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+BENCHMARK(BM_FemSetup)->ArgNames({"refine", "iterative"})->ArgsProduct({{1, 4, 16}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_FemFrame)->ArgNames({"refine", "iterative"})->ArgsProduct({{1, 4, 16}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {5, 10, 20}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HybridFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {5, 10, 20}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
+// 40 divisions: 9602 vertices; 129: 99 848 vertices.
+BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace tb
+
+BENCHMARK_MAIN();
