@@ -61,6 +61,16 @@ def draw_surface(ax, points, tris, values, vmin, vmax, cmap="viridis"):
     ax.set_axis_off()
 
 
+def tet_edges(tets):
+    """The unique edges (a, b), a < b, of a list of tets (#T x 4)."""
+    edges = set()
+    for t in tets:
+        for a in range(4):
+            for b in range(a + 1, 4):
+                edges.add((min(t[a], t[b]), max(t[a], t[b])))
+    return sorted(edges)
+
+
 def figure1(exp_dir, out):
     """Hybrid mesh construction (paper figure 1): fine surface, fine base mesh,
     selected vertices, coarse mesh, control points; a slice y = 0 of the cube."""
@@ -77,12 +87,7 @@ def figure1(exp_dir, out):
     def slice_edges(ax, V, T, color, lw):
         # Edges of the tets cut by the plane y = 0, drawn in x-z.
         cut = T[(V[T][:, :, 1].min(1) <= 0) & (V[T][:, :, 1].max(1) >= 0)]
-        segs = set()
-        for t in cut:
-            for a in range(4):
-                for b in range(a + 1, 4):
-                    segs.add((min(t[a], t[b]), max(t[a], t[b])))
-        for a, b in segs:
+        for a, b in tet_edges(cut):
             ax.plot(V[[a, b], 0], V[[a, b], 2], color=color, lw=lw)
 
     ax = fig.add_subplot(1, 4, 2)
@@ -98,12 +103,7 @@ def figure1(exp_dir, out):
     ax = fig.add_subplot(1, 4, 4, projection="3d")
     draw_surface(ax, sv, sf, np.zeros(len(sv)), 0, 1, cmap="Greys")
     ax.collections[-1].set_alpha(0.05)
-    segs = set()
-    for t in ct:
-        for a in range(4):
-            for b in range(a + 1, 4):
-                segs.add((min(t[a], t[b]), max(t[a], t[b])))
-    for a, b in segs:
+    for a, b in tet_edges(ct):
         ax.plot(cv[[a, b], 0], cv[[a, b], 1], cv[[a, b], 2], color="tab:blue", lw=0.3)
     ax.scatter(cp[:, 0], cp[:, 1], cp[:, 2], s=6, c="tab:red")
     ax.set_title(f"4-5. coarse mesh {len(cv)} nodes / {len(ct)} tets\n+ {len(cp)} control points (red)")

@@ -1,5 +1,6 @@
 #include "build_info.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <ctime>
@@ -23,6 +24,10 @@ nlohmann::json build_and_machine_info() {
       break;
     }
   j["hardware_threads"] = std::thread::hardware_concurrency();
+  j["blas_threads"] = 1;  // tissuebench's main pins OpenBLAS and OpenMP to one thread
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  j["peak_memory_mib"] = static_cast<double>(usage.ru_maxrss) / 1024.0;  // of the whole process so far
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   j["hostname"] = host;

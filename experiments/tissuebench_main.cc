@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "elastic_solver.h"
 #include "mesh_recipe.h"
 #include "model.h"
 #include "runner.h"
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   app.add_subcommand("models", "List the registered models and their parameters");
 
   CLI11_PARSE(app, argc, argv);
+  tb::use_one_thread_for_blas();  // every reported time is single-threaded
   try {
     if (app.got_subcommand("models")) return command_models();
     if (run->parsed()) {

@@ -12,36 +12,41 @@
 #include "hybrid_builder.h"
 #include "mesh_recipe.h"
 #include "model.h"
+#include "scenario.h"
 
 namespace tb {
 namespace {
 
+// Support and load as in experiments/scenarios/{cube,liver}-pull.json.
 const SupportBox kCubeBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
-const SupportBox kLiverBottom{{-1, -1, -1}, {1, 1, -0.0101}};  // as experiments/scenarios/liver-*.json
+const SupportBox kLiverBottom{{-1, -1, -1}, {1, 1, -0.0101}};
 const PointLoad kCubeLoad{{0, 0, 0.1}, {0, 0, 1}};
 const PointLoad kLiverLoad{{-0.01731, 0.02453, 0.0253}, {0, 0, 0.1}};
 
-/// The paper's cube with the fine TetGen volume bound divided by `refinement`
-/// (1: the paper's ~3000 nodes; 4 and 16: about 4x and 16x more tets). Cached.
+/// The mesh recipe of a committed scenario (experiments/scenarios/<name>.json).
+MeshRecipe scenario_recipe(const std::string& name) {
+  return load_experiment(std::string(TB_SOURCE_DIR) + "/experiments/scenarios/" + name + ".json").scenarios.at(0).mesh;
+}
+
+/// The paper's cube (cube-pull.json) with the fine TetGen volume bound divided by
+/// `refinement` (1: the paper's ~3000 nodes; 4 and 16: about 4x and 16x more
+/// tets). Cached.
 const HybridMesh& cube_mesh(int refinement) {
   static std::map<int, std::unique_ptr<HybridMesh>> cache;
   auto& m = cache[refinement];
   if (!m) {
-    HybridBuildOptions o;
-    o.fine_tetgen.max_volume = 9e-8 / refinement;
-    m = std::make_unique<HybridMesh>(build_hybrid_from_surface(make_cube_surface({}), o, "cube"));
+    MeshRecipe r = scenario_recipe("cube-pull");
+    r.build.fine_tetgen.max_volume /= refinement;
+    MeshReport report;
+    m = std::make_unique<HybridMesh>(build_mesh(r, report));
   }
   return *m;
 }
 
+/// The liver of liver-pull.json, without its fine volume (not needed here).
 const HybridMesh& liver_mesh() {
   static const HybridMesh h = [] {
-    MeshRecipe r;
-    r.kind = MeshRecipe::Kind::Files;
-    r.surface_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver-smooth.obj";
-    r.coarse_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver.msh";
-    r.unit_scale = 0.01;
-    r.repair_self_intersections = true;
+    MeshRecipe r = scenario_recipe("liver-pull");
     r.build_fine_volume = false;
     MeshReport report;
     return build_mesh(r, report);
@@ -144,4 +149,11 @@ BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)-
 }  // namespace
 }  // namespace tb
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  tb::use_one_thread_for_blas();  // single-threaded figures, as the runner's
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -8,7 +8,15 @@
 #include "point_location.h"
 #include "stiffness_assembly.h"
 
+extern "C" void openblas_set_num_threads(int);  // libopenblas, linked explicitly
+extern "C" void omp_set_num_threads(int);       // libgomp, via CHOLMOD
+
 namespace tb {
+
+void use_one_thread_for_blas() {
+  openblas_set_num_threads(1);
+  omp_set_num_threads(1);
+}
 
 struct ElasticSolver::Factorisation {
   Eigen::SparseMatrix<double> K_free;

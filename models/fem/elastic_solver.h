@@ -16,6 +16,10 @@ namespace tb {
 
 enum class SolveMode { Direct, Iterative };
 
+/// Limits OpenBLAS (under CHOLMOD) and OpenMP to one thread, so that every timing
+/// the project reports is single-threaded. Call once at program start.
+void use_one_thread_for_blas();
+
 /// The four nodes and barycentric weights over which a point force is spread
 /// (eq. 10 for a point force: f^e = N^e(x)^T F).
 struct LoadStencil {

@@ -8,6 +8,7 @@
 #include "atomic_file.h"
 #include "runner.h"
 #include "strict_json.h"
+#include "test_support.h"
 
 namespace tb {
 namespace {
@@ -15,9 +16,8 @@ namespace fs = std::filesystem;
 
 class Scenarios : public ::testing::Test {
  protected:
-  fs::path dir = fs::temp_directory_path() / ("tb-scen-" + std::to_string(::getpid()));
-  void SetUp() override { fs::create_directories(dir); }
-  void TearDown() override { fs::remove_all(dir); }
+  const tb::testing::TempFolder tmp{"scenarios"};
+  const fs::path dir = tmp.path;
 
   /// A small valid cube scenario (coarse divisions so it runs in a second).
   static nlohmann::json small_cube() {

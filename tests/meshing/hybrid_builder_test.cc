@@ -16,20 +16,17 @@
 #include "mesh_error.h"
 #include "mesh_recipe.h"
 #include "point_location.h"
+#include "scenario.h"
+#include "test_support.h"
 
 namespace tb {
 namespace {
 
-HybridBuildOptions paper_options() {
-  HybridBuildOptions o;
-  o.fine_tetgen.max_volume = 9e-8;  // as experiments/scenarios/cube-*.json
-  o.target_coarse_nodes = 150;
-  return o;
-}
+using testing::scenario_mesh;
 
-const HybridMesh& cube_hybrid() {
-  static const HybridMesh h = build_hybrid_from_surface(make_cube_surface({}), paper_options(), "cube");
-  return h;
+/// The mesh recipe of a committed scenario file.
+MeshRecipe scenario_recipe(const std::string& name) {
+  return load_experiment(std::string(TB_SOURCE_DIR) + "/experiments/scenarios/" + name + ".json").scenarios.at(0).mesh;
 }
 
 TEST(CubeSurface, PaperCounts) {
@@ -66,7 +63,7 @@ TEST(CubeSurface, PaperCounts) {
 }
 
 TEST(HybridBuilder, CubeMatchesThePaperScale) {
-  const HybridMesh& h = cube_hybrid();
+  const HybridMesh& h = scenario_mesh("cube-pull");
   // Paper: fine 3028 nodes / 17044 tets; coarse 153 / 411.
   EXPECT_GT(h.fine_volume.V.rows(), 2500);
   EXPECT_LT(h.fine_volume.V.rows(), 3600);
@@ -103,10 +100,10 @@ TEST(HybridBuilder, NonConvexSolidHasNoCoarseTetOutside) {
       "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 10 11 12\n"  // top
       "f 1 2 8\nf 1 8 7\nf 2 3 9\nf 2 9 8\nf 3 4 10\nf 3 10 9\n"
       "f 4 5 11\nf 4 11 10\nf 5 6 12\nf 5 12 11\nf 6 1 7\nf 6 7 12\n";
-  const std::string path = std::filesystem::temp_directory_path() / ("tb-L-" + std::to_string(::getpid()) + ".obj");
+  const testing::TempFolder dir("L");
+  const std::string path = dir / "L.obj";
   write_file_atomically(path, obj);
   SurfaceMesh L = read_surface(path, 0.05);
-  std::filesystem::remove(path);
   check_and_orient_surface(path, L);
   HybridBuildOptions o;
   o.target_coarse_nodes = 12;  // the 12 corners: their Delaunay mesh fills the notch
@@ -121,14 +118,11 @@ TEST(HybridBuilder, NonConvexSolidHasNoCoarseTetOutside) {
 }
 
 TEST(HybridBuilder, LiverWithGivenCoarseMesh) {
-  MeshRecipe r;
-  r.kind = MeshRecipe::Kind::Files;
-  r.surface_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver-smooth.obj";
-  r.coarse_file = std::string(TB_SOURCE_DIR) + "/experiments/meshes/liver.msh";
-  r.unit_scale = 0.01;
+  MeshRecipe r = scenario_recipe("liver-pull");
   r.build_fine_volume = false;
   MeshReport report;
   // Self-intersections are an error unless repair is asked for.
+  r.repair_self_intersections = false;
   EXPECT_THROW(build_mesh(r, report), MeshError);
   r.repair_self_intersections = true;
   const HybridMesh h = build_mesh(r, report);
@@ -146,16 +140,14 @@ TEST(HybridBuilder, LiverWithGivenCoarseMesh) {
 }
 
 TEST(HybridBuilder, SameInputSameFilesByteForByte) {
-  namespace fs = std::filesystem;
-  const fs::path root = fs::temp_directory_path() / ("tb-det-" + std::to_string(::getpid()));
-  MeshReport report;
+  const testing::TempFolder root("det");
   for (const char* run : {"a", "b"}) {
-    const HybridMesh h = build_hybrid_from_surface(make_cube_surface({}), paper_options(), "cube");
-    write_mesh_folder((root / run).string(), h, report);
+    MeshReport report;
+    const HybridMesh h = build_mesh(scenario_recipe("cube-pull"), report);
+    write_mesh_folder(root / run, h, report);
   }
-  for (const char* f : {"fine_volume.vtu", "coarse_volume.vtu", "control_points.csv", "summary.json"})
-    EXPECT_EQ(read_file((root / "a" / f).string()), read_file((root / "b" / f).string())) << f;
-  fs::remove_all(root);
+  for (const std::string f : {"fine_volume.vtu", "coarse_volume.vtu", "control_points.csv", "summary.json"})
+    EXPECT_EQ(read_file(root / ("a/" + f)), read_file(root / ("b/" + f))) << f;
 }
 
 TEST(TetgenDriver, MissingProgramIsAClearError) {

@@ -15,6 +15,7 @@
 #include "mesh_checks.h"
 #include "mesh_error.h"
 #include "mesh_io.h"
+#include "test_support.h"
 
 namespace tb {
 namespace {
@@ -22,9 +23,8 @@ namespace fs = std::filesystem;
 
 class Readers : public ::testing::Test {
  protected:
-  fs::path dir = fs::temp_directory_path() / ("tb-readers-" + std::to_string(::getpid()));
-  void SetUp() override { fs::create_directories(dir); }
-  void TearDown() override { fs::remove_all(dir); }
+  const tb::testing::TempFolder tmp{"readers"};
+  const fs::path dir = tmp.path;
   std::string write(const std::string& name, const std::string& content) {
     const std::string p = (dir / name).string();
     std::ofstream(p, std::ios::binary) << content;

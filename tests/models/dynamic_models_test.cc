@@ -7,18 +7,13 @@
 #include "cube_generator.h"
 #include "hybrid_builder.h"
 #include "model.h"
+#include "pbd_solver.h"
+#include "test_support.h"
 
 namespace tb {
 namespace {
 
-const HybridMesh& cube() {
-  static const HybridMesh h = [] {
-    HybridBuildOptions o;
-    o.fine_tetgen.max_volume = 9e-8;
-    return build_hybrid_from_surface(make_cube_surface({}), o, "cube");
-  }();
-  return h;
-}
+const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
 
 std::unique_ptr<Model> make(const std::string& name, const nlohmann::json& params = {}) {
   const ModelInfo& info = find_model(name);
@@ -50,14 +45,7 @@ TEST_P(DynamicModel, TenThousandFramesStayFiniteAndSymmetric) {
   const Points& V = cube().fine_surface.V;
   const double umax = u.col(2).cwiseAbs().maxCoeff();
   ASSERT_GT(umax, 0);
-  double worst = 0;
-  for (Eigen::Index v = 0; v < V.rows(); ++v) {
-    Eigen::RowVector3d mv = V.row(v);
-    mv.x() = -mv.x();
-    Eigen::Index w;
-    (V.rowwise() - mv).rowwise().norm().minCoeff(&w);
-    worst = std::max(worst, std::abs(u(v, 2) - u(w, 2)));
-  }
+  const double worst = testing::mirror_asymmetry(V, u.col(2), 0);
   EXPECT_LT(worst, (GetParam() == "pbd" ? 0.10 : 0.20) * umax);
   RecordProperty("max_asymmetry_relative", std::to_string(worst / umax));
 }
@@ -75,6 +63,27 @@ TEST(HybridModel, ControlPointsFollowTheCoarseSolution) {
     top = std::max(top, u(cp.surface_vertex, 2));
   }
   EXPECT_GT(top, 0);
+}
+
+TEST(PbdSolver, RigidTranslationOfControlPointsMovesTheSurfaceRigidly) {
+  // Free surface (nothing clamped), every 7th vertex a control point pinned at
+  // rest + t: at steady state every vertex is at rest + t (the constraints are
+  // invariant under translation).
+  const SurfaceMesh& s = cube().fine_surface;
+  std::vector<char> fixed(static_cast<size_t>(s.V.rows()), 0);
+  std::vector<int> pinned;
+  for (int v = 0; v < s.V.rows(); v += 7) {
+    pinned.push_back(v);
+    fixed[static_cast<size_t>(v)] = 1;
+  }
+  pbd::Settings settings;
+  pbd::Solver solver(s, pbd::inverse_masses(s, 1000, fixed), settings);
+  const Eigen::RowVector3d t(0.003, -0.002, 0.001);
+  Points targets(static_cast<Eigen::Index>(pinned.size()), 3);
+  for (size_t k = 0; k < pinned.size(); ++k) targets.row(static_cast<Eigen::Index>(k)) = s.V.row(pinned[k]) + t;
+  for (int f = 0; f < 3000; ++f) solver.step(-1, Eigen::Vector3d::Zero(), pinned, targets);
+  const Points moved = solver.positions().rowwise() - t;
+  EXPECT_LT((moved - s.V).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(Registry, UnknownModelAndParametersAreErrors) {

@@ -1,0 +1,39 @@
+// Helpers shared by the tests: a temporary folder, the paper's meshes built from
+// the committed scenario files, and a mirror-symmetry measure.
+#pragma once
+
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+
+#include "mesh_types.h"
+
+namespace tb::testing {
+
+/// A fresh folder under the system temp dir, removed at destruction.
+struct TempFolder {
+  std::filesystem::path path;
+  explicit TempFolder(const std::string& tag)
+      : path(std::filesystem::temp_directory_path() / ("tb-" + tag + "-" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+/// The hybrid mesh of a committed scenario (experiments/scenarios/<name>.json),
+/// built once per process. `with_fine_volume` false skips the fine TetGen mesh.
+const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume = true);
+
+/// Largest |values(v) - values(mirror(v))| over vertices, where mirror(v) is the
+/// vertex nearest v reflected across the plane x_axis = 0.
+///   V       #V by 3 positions, values  #V
+double mirror_asymmetry(const Points& V, const Eigen::VectorXd& values, int axis);
+
+}  // namespace tb::testing
