@@ -8,6 +8,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import figures  # noqa: E402
+import readme_tables  # noqa: E402
 import tables  # noqa: E402
 
 if __name__ == "__main__":
@@ -15,4 +16,7 @@ if __name__ == "__main__":
     out = sys.argv[2] if len(sys.argv) > 2 else "results"
     tables.make_tables(exp_dir, os.path.join(out, "tables"))
     figures.make_figures(exp_dir, os.path.join(out, "figures"))
+    readme = os.path.join(os.path.dirname(HERE), "README.md")
+    if os.path.abspath(out) == os.path.join(os.path.dirname(HERE), "results"):
+        readme_tables.update(os.path.join(out, "tables"), readme)  # README shows the committed results
     print(f"tables in {out}/tables, figures in {out}/figures")

@@ -44,84 +44,84 @@ void wing_normals(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4
   n2 = (p4 - p2).cross(p4 - p1);
 }
 
-/// The angle between two vectors, arccos of their normalised dot product computed
-/// as atan2(|a x b|, a . b): accurate near 0 and pi, where arccos loses half the
-/// digits, and never NaN (the clamp of the arccos argument, done exactly).
-double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
-}  // namespace
-
-double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
-  Vec3 n1, n2;
-  wing_normals(p1, p2, p3, p4, n1, n2);
-  if (n1.squaredNorm() <= kTiny || n2.squaredNorm() <= kTiny) return 0;
-  return angle_between(n1, n2);
-}
-
-double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double rest_angle) {
-  Vec3 n1, n2;
-  wing_normals(p1, p2, p3, p4, n1, n2);
-  if (n1.squaredNorm() <= kTiny || n2.squaredNorm() <= kTiny) return 0;
-  return angle_between(n1, n2) - rest_angle;
-}
-
-namespace {
-
-/// The gradient of C (see bending_gradient) and the angle arccos(n1 . n2), from one
-/// set of cross products. Returns false for a degenerate configuration.
-bool bending_gradient_and_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4],
-                                double& angle) {
-  // Bridson, Marino, Fedkiw 2003 (as in Bender's solve_DihedralConstraint): with
-  // the shared edge e = p2 - p1 and the wing normals scaled by 1/|n|^2, m3 and m4,
-  // the gradient of the signed angle theta between the two normals is (up to one
-  // common sign) d theta/d p3 = |e| m3, d theta/d p4 = |e| m4, and for p1, p2 the
-  // combinations below from the wings' projections on e: bounded as the
-  // triangles become coplanar. arccos(n1 . n2) = |theta|, so
-  // grad C = sign(theta) grad theta.
+/// Signed angle theta between the wing normals, turning about the edge p2 - p1,
+/// and (if grad) its gradient; |theta| = arccos(n1 . n2). The angle is
+/// atan2(sin, cos): accurate near 0 and pi, where arccos loses half the digits,
+/// and never NaN (the paper's arccos argument clamped, exactly). The gradient is
+/// Bridson, Marino, Fedkiw 2003 (as in Bender's solve_DihedralConstraint): with
+/// e = p2 - p1 and m3 = n1 / |n1|^2, m4 = n2 / |n2|^2, d theta/d p3 = |e| m3,
+/// d theta/d p4 = |e| m4 and for p1, p2 the combinations of the wings'
+/// projections on e below; bounded as the triangles become coplanar (the
+/// 1/sqrt(1 - d^2) of eqs. 22-24 is 0/0 there). Signs checked against finite
+/// differences in tests/models/pbd/constraints_test.cc.
+/// Returns false (theta = 0, zero gradient) for a degenerate configuration.
+bool signed_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double& theta, Vec3* grad) {
+  theta = 0;
+  if (grad)
+    for (int k = 0; k < 4; ++k) grad[k].setZero();
   const Vec3 e = p2 - p1;
   const double elen = e.norm();
-  if (elen <= kTiny) return false;
   Vec3 n1, n2;
   wing_normals(p1, p2, p3, p4, n1, n2);
   const double a3 = n1.squaredNorm(), a4 = n2.squaredNorm();
-  if (a3 <= kTiny || a4 <= kTiny) return false;
+  if (elen <= kTiny || a3 <= kTiny || a4 <= kTiny) return false;
+  theta = std::atan2(-n1.cross(n2).dot(e) / elen, n1.dot(n2));
+  if (!grad) return true;
   const Vec3 m3 = n1 / a3, m4 = n2 / a4;
-  angle = angle_between(n1, n2);
-  // sign(theta): which way n2 is turned from n1 about the edge (checked against
-  // finite differences in tests/models/pbd/constraints_test.cc).
-  const double sign = n1.cross(n2).dot(e) >= 0 ? -1.0 : 1.0;
   const double inv = 1.0 / elen;
-  g[2] = (sign * elen) * m3;
-  g[3] = (sign * elen) * m4;
-  g[0] = sign * ((p3 - p2).dot(e) * inv * m3 + (p4 - p2).dot(e) * inv * m4);
-  g[1] = -sign * ((p3 - p1).dot(e) * inv * m3 + (p4 - p1).dot(e) * inv * m4);
+  grad[0] = (p3 - p2).dot(e) * inv * m3 + (p4 - p2).dot(e) * inv * m4;
+  grad[1] = -((p3 - p1).dot(e) * inv * m3 + (p4 - p1).dot(e) * inv * m4);
+  grad[2] = elen * m3;
+  grad[3] = elen * m4;
+  return true;
+}
+}  // namespace
+
+double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
+  return std::abs(signed_normal_angle(p1, p2, p3, p4));
+}
+
+double signed_normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
+  double theta = 0;
+  signed_angle(p1, p2, p3, p4, theta, nullptr);
+  return theta;
+}
+
+double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double rest_angle) {
+  double theta = 0;
+  if (!signed_angle(p1, p2, p3, p4, theta, nullptr)) return 0;
+  return std::abs(theta) - rest_angle;
+}
+
+bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4]) {
+  double theta = 0;
+  if (!signed_angle(p1, p2, p3, p4, theta, g)) return false;
+  const double sign = theta < 0 ? -1.0 : 1.0;  // grad |theta| = sign(theta) grad theta
+  for (int k = 0; k < 4; ++k) g[k] *= sign;
   return true;
 }
 
-}  // namespace
-
-bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4]) {
-  double angle = 0;
-  if (bending_gradient_and_angle(p1, p2, p3, p4, g, angle)) return true;
-  for (int k = 0; k < 4; ++k) g[k].setZero();
-  return false;
+bool signed_angle_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 g[4]) {
+  double theta = 0;
+  return signed_angle(p1, p2, p3, p4, theta, g);
 }
 
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
-                     double w4, double rest_angle, double stiffness, Vec3 corr[4]) {
+                     double w4, double rest_angle, double stiffness, Vec3 corr[4], BendingAngle kind) {
   Vec3 g[4];
-  double angle = 0;
-  if (!bending_gradient_and_angle(p1, p2, p3, p4, g, angle)) {
-    for (int k = 0; k < 4; ++k) corr[k].setZero();
-    return false;
+  double theta = 0;
+  for (int k = 0; k < 4; ++k) corr[k].setZero();
+  if (!signed_angle(p1, p2, p3, p4, theta, g)) return false;
+  double c = theta - rest_angle;
+  if (kind == BendingAngle::Unsigned) {  // eq. (19): C = |theta| - |theta_0|
+    const double sign = theta < 0 ? -1.0 : 1.0;
+    for (int k = 0; k < 4; ++k) g[k] *= sign;
+    c = std::abs(theta) - std::abs(rest_angle);
   }
   const double w[4] = {w1, w2, w3, w4};
   double denom = 0;
   for (int k = 0; k < 4; ++k) denom += w[k] * g[k].squaredNorm();
-  if (denom <= kTiny) {
-    for (int k = 0; k < 4; ++k) corr[k].setZero();
-    return false;
-  }
-  const double c = angle - rest_angle;
+  if (denom <= kTiny) return false;
   const double s = -stiffness * c / denom;
   for (int k = 0; k < 4; ++k) corr[k] = s * w[k] * g[k];
   return true;

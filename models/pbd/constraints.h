@@ -29,6 +29,18 @@ double bending_constraint(const Vec3& p1, const Vec3& p2, const Vec3& p3, const 
 /// The angle between the two triangles' normals, arccos(n1 . n2), in [0, pi]
 /// (0 when coplanar and unfolded).
 double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4);
+/// The same angle signed by the way n2 turns from n1 about the edge p2 - p1, in
+/// (-pi, pi]: |signed_normal_angle| = normal_angle.
+double signed_normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4);
+/// Gradient of the signed angle with respect to p1..p4 (smooth through 0).
+bool signed_angle_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 grad[4]);
+
+/// Which angle the bending constraint keeps: the paper's eq. (19),
+/// C = arccos(n1 . n2) - phi0 = |theta| - |theta0|, whose gradient flips sign
+/// where the pair passes through flat (theta = 0: a kink that a rest-curved pair
+/// driven through flat oscillates across); or the signed C = theta - theta0,
+/// smooth there (beyond the paper).
+enum class BendingAngle { Unsigned, Signed };
 /// Gradients of C with respect to p1..p4 (eqs. 22-25 in value). Computed with
 /// Bridson et al.'s bounded form of the dihedral-angle gradient instead of the
 /// 1/sqrt(1 - d^2) form, which is 0/0 when the triangles are coplanar.
@@ -36,9 +48,11 @@ double normal_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& 
 bool bending_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, Vec3 grad[4]);
 /// Projection: dp_i = -s w_i C / (sum_j w_j |grad_j C|^2) grad_i C (eq. 13 with
 /// masses; the paper's eq. (26) with its extra factor 4 is Mueller 2007's
-/// typo, not used). Returns false with zero corrections when nothing moves.
+/// typo, not used). rest_angle is the signed rest angle theta0 (signed_normal_angle
+/// at rest). Returns false with zero corrections when nothing moves.
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
-                     double w4, double rest_angle, double stiffness, Vec3 corr[4]);
+                     double w4, double rest_angle, double stiffness, Vec3 corr[4],
+                     BendingAngle kind = BendingAngle::Unsigned);
 
 /// Mueller et al. 2007's iteration-count correction: the per-iteration stiffness
 /// k' = 1 - (1 - k)^(1/n) so that n iterations act like stiffness k once.

@@ -18,6 +18,10 @@ std::vector<ParameterSpec> parameter_specs() {
       {"stiffness_correction", 0, 0, 0, "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given",
        {"mueller2007", "none"}, "mueller2007"},
       {"damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"},
+      {"bending_angle", 0, 0, 0,
+       "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
+       "signed: theta - theta0, smooth there",
+       {"unsigned", "signed"}, "unsigned"},
   };
 }
 
@@ -29,6 +33,7 @@ Settings Settings::from(const Parameters& p) {
   s.bending_stiffness = p.number("bending_stiffness");
   s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
   s.damping = p.number("damping");
+  s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
   return s;
 }
 
@@ -63,8 +68,8 @@ ConstraintSet build_constraints(const SurfaceMesh& s) {
     const auto& q = bends[b];
     c.bending.row(static_cast<Eigen::Index>(b)) << q[0], q[1], q[2], q[3];
     c.bending_rest(static_cast<Eigen::Index>(b)) =
-        normal_angle(s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(),
-                     s.V.row(q[3]).transpose());
+        signed_normal_angle(s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(),
+                            s.V.row(q[3]).transpose());
   }
   return c;
 }
@@ -116,7 +121,7 @@ void Solver::project_all(bool reverse) {
   for (size_t k = 0; k < nb; ++k) {
     const BendItem& c = bending_[reverse ? nb - 1 - k : k];
     if (project_bending(P(c.q[0]), w_[c.q[0]], P(c.q[1]), w_[c.q[1]], P(c.q[2]), w_[c.q[2]], P(c.q[3]), w_[c.q[3]],
-                        c.rest, k_bend_, cb))
+                        c.rest, k_bend_, cb, s_.bending_angle))
       for (int j = 0; j < 4; ++j) P(c.q[j]) += cb[j];
   }
 }

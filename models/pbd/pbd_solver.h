@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesh_types.h"
+#include "constraints.h"
 #include "parameters.h"
 
 namespace tb::pbd {
@@ -21,12 +22,14 @@ struct Settings {
   double bending_stiffness = 1;   ///< in [0, 1]
   bool correct_stiffness = true;  ///< Mueller 2007: 1 - (1 - k)^(1/n)
   double damping = 0.05;          ///< fraction of velocity removed per frame
+  BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
   static Settings from(const Parameters& p);
 };
 
 /// Stretch constraints on every edge, bending constraints on every interior edge.
 ///   stretch  #S by 2 vertex pairs, stretch_rest #S rest lengths
-///   bending  #B by 4 (p1, p2 shared edge; p3, p4 wings), bending_rest #B angles
+///   bending  #B by 4 (p1, p2 shared edge; p3, p4 wings), bending_rest #B signed
+///   rest angles (signed_normal_angle)
 struct ConstraintSet {
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> stretch;
   Eigen::VectorXd stretch_rest;

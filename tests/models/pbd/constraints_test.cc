@@ -87,6 +87,21 @@ TEST(BendingConstraint, GradientMatchesFiniteDifferences) {
   EXPECT_EQ(tested, 100);
 }
 
+TEST(BendingConstraint, SignedAngleGradientMatchesFiniteDifferencesThroughFlat) {
+  // The signed angle is smooth through the flat configuration, so test there too.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int trial = 0; trial < 100; ++trial) {
+    Vec3 p[4] = {{0, 0, 0}, {1, 0, 0}, {0.4 + 0.2 * U(rng), 1, 0.3 * U(rng)}, {0.5 + 0.2 * U(rng), -1, 0.3 * U(rng)}};
+    p[0] += 0.05 * Vec3(U(rng), U(rng), U(rng));
+    Vec3 g[4], fd[4];
+    ASSERT_TRUE(signed_angle_gradient(p[0], p[1], p[2], p[3], g));
+    numeric_gradient([](const Vec3 q[4]) { return signed_normal_angle(q[0], q[1], q[2], q[3]); }, p, 4, fd);
+    EXPECT_LT(max_relative_error(g, fd, 4), 1e-6) << "trial " << trial;
+    EXPECT_NEAR(std::abs(signed_normal_angle(p[0], p[1], p[2], p[3])), normal_angle(p[0], p[1], p[2], p[3]), 1e-15);
+  }
+}
+
 TEST(BendingConstraint, ProjectionReducesViolationToFirstOrder) {
   // A small violation delta: after one projection the residual is O(delta^2).
   const Vec3 p1(0, 0, 0), p2(1, 0, 0), p3(0.4, 1, 0);
@@ -97,6 +112,13 @@ TEST(BendingConstraint, ProjectionReducesViolationToFirstOrder) {
     ASSERT_TRUE(project_bending(p1, 1, p2, 1, p3, 1, p4, 1, 0.0, 1.0, corr));
     const double c1 = bending_constraint(p1 + corr[0], p2 + corr[1], p3 + corr[2], p4 + corr[3], 0.0);
     EXPECT_LT(std::abs(c1), 0.05 * std::abs(c0)) << "delta " << delta;
+    // The signed variant: from a rest angle of 0.2 rad to a violation of delta.
+    const double rest = 0.2;
+    const Vec3 q4 = p4 + Vec3(0, 0, 0);
+    const double s0 = signed_normal_angle(p1, p2, p3, q4) - rest;
+    ASSERT_TRUE(project_bending(p1, 1, p2, 1, p3, 1, q4, 1, rest, 1.0, corr, BendingAngle::Signed));
+    const double s1 = signed_normal_angle(p1 + corr[0], p2 + corr[1], p3 + corr[2], q4 + corr[3]) - rest;
+    EXPECT_LT(std::abs(s1), 0.05 * std::abs(s0)) << "signed, delta " << delta;
   }
 }
 
