@@ -112,7 +112,7 @@ def make_tables(exp_dir, out_dir):
     write_table(out_dir, "table2",
                 ["model", "pull median (ms)", "pull p95 (ms)", "pull paper (ms)", "push median (ms)", "push p95 (ms)",
                  "push paper (ms)", "setup, pull (ms)"], rows,
-                f"Per-frame time of step(), median and p95 over every frame run. PBD and hybrid: {iters} iterations. "
+                f"Per-frame time of step(), median and p95 over every frame run. PBD and hybrid: {int(iters)} iterations. "
                 "fem-direct: back-substitution with a factorisation made in setup; fem-iterative: CG warm-started "
                 "from the previous frame (the load ramps, so every frame is a new solve). The paper's FEM is one "
                 "number; its solver is not stated. " + machine_note(exp) + f" Paper: {paper['machine']}.")
