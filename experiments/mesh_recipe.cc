@@ -1,8 +1,14 @@
 #include "mesh_recipe.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
+
+#include <fstream>
 
 #include "atomic_file.h"
 #include "mesh_checks.h"
@@ -10,6 +16,8 @@
 #include "mesh_io.h"
 #include "self_intersections.h"
 #include "strict_json.h"
+#include "tetgen_driver.h"
+#include "text_parsing.h"
 
 namespace tb {
 
@@ -120,6 +128,94 @@ void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshRe
   write_points_vtu((d / "control_points.vtu").string(), cp, {{"surface_vertex", ids}});
   write_file_atomically((d / "control_points.csv").string(), csv.str());
   write_file_atomically((d / "summary.json").string(), report.to_json(h).dump(2) + "\n");
+}
+
+}  // namespace tb
+
+namespace tb {
+
+namespace {
+
+/// FNV-1a, 64 bits: fast, stable across runs and machines.
+uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+/// Cache format version: bump when the mesh pipeline or the folder layout changes.
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-1";
+
+HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
+  const fs::path d(dir);
+  HybridMesh h;
+  h.fine_surface = read_surface((d / "fine_surface.vtu").string());
+  if (fs::exists(d / "fine_volume.vtu")) {
+    h.fine_volume = read_volume((d / "fine_volume.vtu").string());
+    h.fine_surface_to_volume.resize(static_cast<size_t>(h.fine_surface.V.rows()));
+    for (size_t v = 0; v < h.fine_surface_to_volume.size(); ++v) h.fine_surface_to_volume[v] = static_cast<int>(v);
+  }
+  h.coarse_volume = read_volume((d / "coarse_volume.vtu").string());
+  const std::string csv_path = (d / "control_points.csv").string();
+  std::istringstream csv(read_file(csv_path));
+  std::string line;
+  std::getline(csv, line);  // header
+  while (std::getline(csv, line)) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ls(line);
+    ControlPoint cp;
+    if (!(ls >> cp.surface_vertex >> cp.coarse_tet >> cp.weights(0) >> cp.weights(1) >> cp.weights(2) >> cp.weights(3)))
+      throw MeshError(csv_path, "malformed control point line '" + line + "'");
+    h.control_points.push_back(cp);
+  }
+  const auto summary = nlohmann::json::parse(read_file((d / "summary.json").string()));
+  report.self_intersections_found = summary.at("self_intersections_found").get<int>();
+  report.repaired = summary.at("self_intersections_repaired").get<bool>();
+  report.vertices_before_repair = summary.value("surface_vertices_before_repair", 0);
+  report.flipped_triangles = summary.at("triangles_reoriented").get<int>();
+  return h;
+}
+
+}  // namespace
+
+std::string mesh_content_hash(const MeshRecipe& r) {
+  std::ostringstream key;
+  key << std::setprecision(17) << kCacheFormat << '|' << static_cast<int>(r.kind) << '|' << r.cube.side << ','
+      << r.cube.height << ',' << r.cube.nx << ',' << r.cube.ny << ',' << r.cube.nz << '|' << r.unit_scale << '|'
+      << r.repair_self_intersections << '|' << static_cast<int>(r.control_points) << '|' << r.build_fine_volume << '|'
+      << r.build.fine_tetgen.radius_edge_ratio << ',' << r.build.fine_tetgen.max_volume << '|'
+      << r.build.target_coarse_nodes << ',' << r.build.coarse_spacing << ',' << r.build.feature_angle_deg << '|';
+  uint64_t h = fnv1a(key.str());
+  for (const std::string& f : {r.surface_file, r.coarse_file})
+    if (!f.empty()) h = fnv1a(read_file(f), fnv1a("|file|", h));  // contents, not names
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+HybridMesh build_mesh_cached(const MeshRecipe& recipe, MeshReport& report, const std::string& cache_dir, bool& hit) {
+  hit = false;
+  if (cache_dir.empty()) return build_mesh(recipe, report);
+  const fs::path entry = fs::path(cache_dir) / mesh_content_hash(recipe);
+  if (fs::exists(entry / "complete")) {
+    try {
+      HybridMesh h = read_mesh_folder(entry.string(), report);
+      hit = true;
+      return h;
+    } catch (const std::exception&) {
+      // A damaged entry: rebuild it below.
+    }
+  }
+  HybridMesh h = build_mesh(recipe, report);
+  // Written into a staging folder and renamed, so a half-written entry is never read.
+  const fs::path staging = entry.string() + ".tmp" + std::to_string(::getpid());
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  write_mesh_folder(staging.string(), h, report);
+  write_file_atomically((staging / "complete").string(), std::string(kCacheFormat) + "\n");
+  fs::remove_all(entry, ec);
+  fs::rename(staging, entry, ec);
+  if (ec) fs::remove_all(staging, ec);  // another process won the race: its entry is as good
+  return h;
 }
 
 }  // namespace tb

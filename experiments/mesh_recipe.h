@@ -44,4 +44,14 @@ HybridMesh build_mesh(const MeshRecipe& recipe, MeshReport& report);
 /// summary.json into `dir`.
 void write_mesh_folder(const std::string& dir, const HybridMesh& mesh, const MeshReport& report);
 
+/// A hash (16 hex digits) of everything that determines the built mesh: the
+/// recipe's values and the bytes of its input files.
+std::string mesh_content_hash(const MeshRecipe& recipe);
+
+/// build_mesh through a disk cache: cache_dir/<mesh_content_hash>/ holds the mesh
+/// folder (write_mesh_folder) and is read back instead of meshing again. The
+/// pipeline is deterministic and VTU keeps 17 digits, so a cached mesh is the
+/// built one exactly. Empty cache_dir: no cache. `hit` tells which happened.
+HybridMesh build_mesh_cached(const MeshRecipe& recipe, MeshReport& report, const std::string& cache_dir, bool& hit);
+
 }  // namespace tb

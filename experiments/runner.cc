@@ -1,6 +1,7 @@
 // The runner loop, narrated:
 //  1. Meshes: each scenario's mesh recipe is built once per process and shared by
-//     every scenario with the same recipe (cube pull and push share one).
+//     every scenario with the same recipe (cube pull and push share one), and
+//     kept in a disk cache keyed by its content hash, so a rerun does not re-mesh.
 //  2. Setup: the model is created from the registry and set up; timed on its own.
 //  3. Frames: the load of the frame (ramped, then constant) is applied by step();
 //     only step() is inside the timed region. After each frame the surface
@@ -12,9 +13,11 @@
 //     killed or failed run leaves the previous result intact.
 #include "runner.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -106,6 +109,23 @@ std::string csv_of(const Points& rest, const Displacements& u, const std::vector
   return os.str();
 }
 
+/// Removes <dir>.tmp<pid> and <dir>.old<pid> folders left by runs that were killed
+/// (their process no longer exists).
+void remove_stale_staging(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir.parent_path(), ec)) return;
+  const std::string stem = dir.filename().string();
+  for (const auto& entry : fs::directory_iterator(dir.parent_path(), ec)) {
+    const std::string name = entry.path().filename().string();
+    for (const std::string tag : {".tmp", ".old"}) {
+      if (name.rfind(stem + tag, 0) != 0) continue;
+      const std::string pid = name.substr(stem.size() + tag.size());
+      if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0) fs::remove_all(entry.path(), ec);
+    }
+  }
+}
+
 /// Replaces `dir` by `staging` as atomically as the file system allows.
 void move_into_place(const fs::path& staging, const fs::path& dir) {
   const fs::path old = dir.string() + ".old" + std::to_string(::getpid());
@@ -167,6 +187,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   // ---- output, staged then moved into place ----
   const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
   const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
+  remove_stale_staging(dir);
   fs::remove_all(staging);
   fs::create_directories(staging);
   const Displacements& u = model->surface_displacement();
@@ -214,6 +235,13 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
 
 }  // namespace
 
+std::string default_mesh_cache_dir() {
+  if (const char* env = std::getenv("TISSUEBENCH_MESH_CACHE"); env && *env) return env;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/tissuebench/meshes";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/tissuebench/meshes";
+  return "";
+}
+
 std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& opt) {
   Progress progress(opt.progress);
   struct BuiltMesh {
@@ -231,9 +259,11 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
     try {
       auto it = meshes.find(key);
       if (it == meshes.end()) {
-        progress.line(s.name + ": building meshes");
+        progress.line(s.name + ": preparing meshes");
         MeshReport report;
-        mesh = std::make_shared<HybridMesh>(build_mesh(s.mesh, report));
+        bool cached = false;
+        mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+        if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
         summary = report.to_json(*mesh);
         it = meshes.emplace(key, BuiltMesh{mesh, report, summary}).first;
         progress.line(s.name + ": " + std::to_string(mesh->fine_surface.V.rows()) + " surface vertices, " +

@@ -13,6 +13,7 @@ struct RunOptions {
   std::string out_dir = "results";  ///< results/<experiment>/<scenario>/<case>/
   std::string only_case;            ///< run only this case (or model) name; empty: all
   bool progress = true;             ///< progress lines on stderr
+  std::string mesh_cache_dir;       ///< built meshes cached here by content hash; empty: none
 };
 
 struct CaseOutcome {
@@ -22,6 +23,10 @@ struct CaseOutcome {
   int frames = 0;         ///< frames stepped
   int steady_frame = -1;  ///< first frame meeting the steady-state test (-1: never)
 };
+
+/// The default mesh cache: $TISSUEBENCH_MESH_CACHE, else $XDG_CACHE_HOME or
+/// ~/.cache, + /tissuebench/meshes.
+std::string default_mesh_cache_dir();
 
 /// Runs every case; a failing case is reported and writes nothing, the others go on.
 std::vector<CaseOutcome> run_experiment(const Experiment& experiment, const RunOptions& options);

@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
   run->add_option("--out", out_dir, "results folder (default: results)");
   run->add_option("--model", only, "run only this case or model name");
   run->add_flag("--quiet", quiet, "no progress on stderr");
+  std::string mesh_cache = tb::default_mesh_cache_dir();
+  bool no_cache = false;
+  run->add_option("--mesh-cache", mesh_cache, "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
+  run->add_flag("--no-mesh-cache", no_cache, "always build the meshes");
 
   auto* mesh = app.add_subcommand("mesh", "Build a hybrid mesh (paper section 1.2) and write it for ParaView");
   std::string surface, coarse, mesh_out;
@@ -71,6 +75,7 @@ int main(int argc, char** argv) {
       opt.out_dir = out_dir;
       opt.only_case = only;
       opt.progress = !quiet;
+      opt.mesh_cache_dir = no_cache ? "" : mesh_cache;
       const auto outcomes = tb::run_experiment(e, opt);
       int failed = 0, ran = 0;
       for (const auto& o : outcomes) {

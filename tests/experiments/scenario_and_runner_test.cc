@@ -1,6 +1,9 @@
 // Scenario validation, divergence reporting, atomic outputs and determinism (issue 6).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <fstream>
@@ -133,6 +136,64 @@ TEST_F(Scenarios, DivergenceIsReportedAndLeavesThePreviousResult) {
   EXPECT_EQ(read_file(csv.string()), before);  // the old result is intact
   for (const auto& entry : fs::directory_iterator(dir / "out" / "small" / "small"))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
+}
+
+TEST_F(Scenarios, KilledRunLeavesThePreviousResultAndItsLeftoversAreCleaned) {
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.only_case = "pbd";
+  ASSERT_TRUE(run_experiment(load_experiment(write("s.json", small_cube())), o).at(0).ok);
+  const fs::path result = dir / "out" / "small" / "small" / "pbd";
+  const std::string before = read_file((result / "top_surface.csv").string());
+
+  // A run that never reaches the steady state, killed (SIGKILL) mid-way.
+  auto j = small_cube();
+  j["frames"] = {{"max", 100000000}, {"steady_tolerance", 0}};
+  const std::string scenario = write("long.json", j);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    execl(TB_CLI, TB_CLI, "run", scenario.c_str(), "--model", "pbd", "--out", o.out_dir.c_str(), "--quiet",
+          "--no-mesh-cache", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  usleep(1500 * 1000);  // meshing takes about 0.2 s; then it steps
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed";
+  EXPECT_EQ(read_file((result / "top_surface.csv").string()), before);
+
+  // The next run replaces the result and removes what the killed run left.
+  ASSERT_TRUE(run_experiment(load_experiment(write("s.json", small_cube())), o).at(0).ok);
+  for (const auto& entry : fs::directory_iterator(result.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
+}
+
+TEST_F(Scenarios, MeshCacheReturnsTheBuiltMeshExactly) {
+  const Experiment e = load_experiment(write("s.json", small_cube()));
+  const std::string cache = (dir / "cache").string();
+  MeshReport r1, r2;
+  bool hit1 = true, hit2 = false;
+  const HybridMesh built = build_mesh_cached(e.scenarios[0].mesh, r1, cache, hit1);
+  const HybridMesh read = build_mesh_cached(e.scenarios[0].mesh, r2, cache, hit2);
+  EXPECT_FALSE(hit1);
+  EXPECT_TRUE(hit2);
+  EXPECT_EQ(built.fine_surface.V, read.fine_surface.V);
+  EXPECT_EQ(built.fine_surface.F, read.fine_surface.F);
+  EXPECT_EQ(built.fine_volume.V, read.fine_volume.V);
+  EXPECT_EQ(built.fine_volume.T, read.fine_volume.T);
+  EXPECT_EQ(built.coarse_volume.T, read.coarse_volume.T);
+  ASSERT_EQ(built.control_points.size(), read.control_points.size());
+  for (size_t k = 0; k < built.control_points.size(); ++k) {
+    EXPECT_EQ(built.control_points[k].surface_vertex, read.control_points[k].surface_vertex);
+    EXPECT_EQ(built.control_points[k].weights, read.control_points[k].weights);
+  }
+  // A different recipe is a different entry.
+  MeshRecipe other = e.scenarios[0].mesh;
+  other.build.target_coarse_nodes += 1;
+  EXPECT_NE(mesh_content_hash(other), mesh_content_hash(e.scenarios[0].mesh));
 }
 
 TEST(Timing, MedianAndP95) {
