@@ -5,10 +5,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
-
-#include <fstream>
 
 #include "atomic_file.h"
 #include "mesh_checks.h"
@@ -27,7 +26,9 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
   StrictObject o(j, where);
   MeshRecipe r;
   const std::string type = o.text("type", std::nullopt, {"cube", "files"});
-  auto path = [&](const std::string& p) { return fs::path(p).is_absolute() ? p : (fs::path(base_dir) / p).lexically_normal().string(); };
+  auto path = [&](const std::string& p) {
+    return fs::path(p).is_absolute() ? p : (fs::path(base_dir) / p).lexically_normal().string();
+  };
   if (type == "cube") {
     r.kind = MeshRecipe::Kind::Cube;
     r.cube.side = o.number("side", 0.1, 1e-9, 1e9);
@@ -122,8 +123,8 @@ void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshRe
     const auto& c = h.control_points[k];
     cp.row(static_cast<Eigen::Index>(k)) = h.fine_surface.V.row(c.surface_vertex);
     ids(static_cast<Eigen::Index>(k), 0) = c.surface_vertex;
-    csv << c.surface_vertex << ',' << c.coarse_tet << ',' << c.weights(0) << ',' << c.weights(1) << ','
-        << c.weights(2) << ',' << c.weights(3) << '\n';
+    csv << c.surface_vertex << ',' << c.coarse_tet << ',' << c.weights(0) << ',' << c.weights(1) << ',' << c.weights(2)
+        << ',' << c.weights(3) << '\n';
   }
   write_points_vtu((d / "control_points.vtu").string(), cp, {{"surface_vertex", ids}});
   write_file_atomically((d / "control_points.csv").string(), csv.str());

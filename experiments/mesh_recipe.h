@@ -14,13 +14,13 @@ namespace tb {
 struct MeshRecipe {
   enum class Kind { Cube, Files } kind = Kind::Cube;
   CubeSpec cube;
-  std::string surface_file;      ///< Files: the fine surface
-  std::string coarse_file;       ///< Files: optional given coarse volume
-  double unit_scale = 1.0;       ///< Files: multiply coordinates (0.01 for cm)
+  std::string surface_file;  ///< Files: the fine surface
+  std::string coarse_file;   ///< Files: optional given coarse volume
+  double unit_scale = 1.0;   ///< Files: multiply coordinates (0.01 for cm)
   bool repair_self_intersections = false;
   ControlPointRule control_points = ControlPointRule::NearestToCoarseSurfaceNodes;
-  HybridBuildOptions build;      ///< fine TetGen bounds, coarse target
-  bool build_fine_volume = true; ///< Files + coarse: also mesh the fine volume (FEM reference)
+  HybridBuildOptions build;       ///< fine TetGen bounds, coarse target
+  bool build_fine_volume = true;  ///< Files + coarse: also mesh the fine volume (FEM reference)
 };
 
 /// What building reported, written to summary.json / run.json.

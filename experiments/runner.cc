@@ -17,9 +17,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -78,8 +78,10 @@ class Progress {
     os << label << ": frame " << frame << "/" << budget << std::fixed << std::setprecision(0) << ", " << rate
        << " frames/s";
     if (rate > 0 && frame < budget) os << ", at most " << std::setprecision(1) << (budget - frame) / rate << " s left";
-    if (tty_) std::cerr << "\r\033[K" << os.str() << std::flush;
-    else std::cerr << os.str() << "\n";
+    if (tty_)
+      std::cerr << "\r\033[K" << os.str() << std::flush;
+    else
+      std::cerr << os.str() << "\n";
   }
   void line(const std::string& text) {
     if (!enabled_) return;
@@ -166,7 +168,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     out.frames = frame + 1;
 
     const Displacements& u = model->surface_displacement();
-    if (!u.allFinite()) throw std::runtime_error("diverged at frame " + std::to_string(frame) + ": NaN or Inf displacement");
+    if (!u.allFinite())
+      throw std::runtime_error("diverged at frame " + std::to_string(frame) + ": NaN or Inf displacement");
     const double max_u = u.rowwise().norm().maxCoeff();
     if (max_u > bound) {
       std::ostringstream msg;
@@ -215,7 +218,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   t["step"] = to_json(timing_stats(step_ms));
   // Frames after the load ramp, i.e. the frames of the steady load only.
   const size_t skip = std::min(step_ms.size(), static_cast<size_t>(s.ramp_frames));
-  t["step_after_ramp"] = to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
+  t["step_after_ramp"] =
+      to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
   t["build"] = j["build"];
@@ -292,7 +296,8 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         o.error = ex.what();
         progress.line(s.name + "/" + run.case_name + ": FAILED: " + o.error);
         std::error_code ec;
-        fs::remove_all(fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".tmp" + std::to_string(::getpid())), ec);
+        fs::remove_all(fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".tmp" + std::to_string(::getpid())),
+                       ec);
       }
       outcomes.push_back(o);
     }

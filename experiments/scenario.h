@@ -26,10 +26,10 @@ struct Scenario {
   MeshRecipe mesh;
   Material material;
   SupportBox support;
-  PointLoad load;           ///< the full load
-  int ramp_frames = 0;      ///< load scaled by (frame + 1) / ramp_frames until then
-  int max_frames = 2000;    ///< frame budget of dynamic models
-  int static_frames = 20;   ///< frames of static models (timing samples)
+  PointLoad load;                  ///< the full load
+  int ramp_frames = 0;             ///< load scaled by (frame + 1) / ramp_frames until then
+  int max_frames = 2000;           ///< frame budget of dynamic models
+  int static_frames = 20;          ///< frames of static models (timing samples)
   double steady_tolerance = 1e-6;  ///< max per-frame change / max displacement
   double divergence_factor = 10;   ///< |u| beyond this x bounding-box diagonal: diverged
   std::string observed = "top";    ///< "top": vertices on the top plane; "all"

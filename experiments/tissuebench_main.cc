@@ -17,7 +17,8 @@ int command_models() {
     std::cout << m.name << (m.dynamic ? " (dynamic)" : " (static)") << ": " << m.description << "\n";
     for (const auto& p : m.parameters) {
       std::cout << "  " << p.name << " = ";
-      if (p.choices.empty()) std::cout << p.default_number << " in [" << p.min << ", " << p.max << "]";
+      if (p.choices.empty())
+        std::cout << p.default_number << " in [" << p.min << ", " << p.max << "]";
       else {
         std::cout << p.default_choice << " (one of";
         for (const auto& c : p.choices) std::cout << " " << c;
@@ -44,7 +45,8 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet", quiet, "no progress on stderr");
   std::string mesh_cache = tb::default_mesh_cache_dir();
   bool no_cache = false;
-  run->add_option("--mesh-cache", mesh_cache, "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
+  run->add_option("--mesh-cache", mesh_cache,
+                  "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
   run->add_flag("--no-mesh-cache", no_cache, "always build the meshes");
 
   auto* mesh = app.add_subcommand("mesh", "Build a hybrid mesh (paper section 1.2) and write it for ParaView");
@@ -99,8 +101,10 @@ int main(int argc, char** argv) {
       if (cube) {
         recipe = {{"type", "cube"}};
       } else {
-        recipe = {{"type", "files"}, {"surface", std::filesystem::absolute(surface).string()},
-                  {"unit_scale", unit_scale}, {"repair_self_intersections", repair}};
+        recipe = {{"type", "files"},
+                  {"surface", std::filesystem::absolute(surface).string()},
+                  {"unit_scale", unit_scale},
+                  {"repair_self_intersections", repair}};
         if (!coarse.empty()) recipe["coarse"] = std::filesystem::absolute(coarse).string();
       }
       recipe["fine_tetgen"] = {{"radius_edge_ratio", quality}, {"max_volume", max_volume}};

@@ -20,7 +20,9 @@ SurfaceMesh make_cube_surface(const CubeSpec& s) {
   std::vector<std::array<int, 3>> tris;
   // Each face: fixed axis a at lattice value `at`, in-plane axes (u, v) chosen so
   // that e_u x e_v points outward.
-  struct Face { int a, at_max, u, v; };
+  struct Face {
+    int a, at_max, u, v;
+  };
   const Face faces[6] = {{2, 0, 1, 0}, {2, 1, 0, 1}, {0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2}, {1, 1, 2, 0}};
   for (const Face& f : faces) {
     const int nu = n[f.u], nv = n[f.v];
@@ -52,8 +54,7 @@ SurfaceMesh make_cube_surface(const CubeSpec& s) {
         s.side * (static_cast<double>(l[1]) / s.ny - 0.5), s.height * static_cast<double>(l[2]) / s.nz;
   }
   m.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
-  for (size_t t = 0; t < tris.size(); ++t)
-    m.F.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  for (size_t t = 0; t < tris.size(); ++t) m.F.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];
   return m;
 }
 

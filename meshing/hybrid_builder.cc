@@ -26,7 +26,8 @@ TetMesh compact(const TetMesh& m, const std::vector<int>& keep, std::vector<int>
     if (new_index[static_cast<size_t>(v)] >= 0) out.V.row(new_index[static_cast<size_t>(v)]) = m.V.row(v);
   out.T.resize(static_cast<Eigen::Index>(keep.size()), 4);
   for (size_t i = 0; i < keep.size(); ++i)
-    for (int k = 0; k < 4; ++k) out.T(static_cast<Eigen::Index>(i), k) = new_index[static_cast<size_t>(m.T(keep[i], k))];
+    for (int k = 0; k < 4; ++k)
+      out.T(static_cast<Eigen::Index>(i), k) = new_index[static_cast<size_t>(m.T(keep[i], k))];
   return out;
 }
 
@@ -72,14 +73,16 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
   std::vector<int> priority(static_cast<size_t>(h.fine_volume.V.rows()), 3);
   const std::vector<int> surface_priority = surface_feature_priority(surface, o.feature_angle_deg);
   std::copy(surface_priority.begin(), surface_priority.end(), priority.begin());
-  const double spacing = o.coarse_spacing > 0 ? o.coarse_spacing
-                                              : spacing_for_target_count(h.fine_volume.V, priority, o.target_coarse_nodes);
+  const double spacing = o.coarse_spacing > 0
+                             ? o.coarse_spacing
+                             : spacing_for_target_count(h.fine_volume.V, priority, o.target_coarse_nodes);
   std::vector<int> selected = select_covering_vertices(h.fine_volume.V, priority, spacing);
   std::sort(selected.begin(), selected.end());
   if (selected.size() < 4) throw MeshError(source, "too few vertices selected for a coarse mesh (spacing too large)");
 
   Points selected_points(static_cast<Eigen::Index>(selected.size()), 3);
-  for (size_t i = 0; i < selected.size(); ++i) selected_points.row(static_cast<Eigen::Index>(i)) = h.fine_volume.V.row(selected[i]);
+  for (size_t i = 0; i < selected.size(); ++i)
+    selected_points.row(static_cast<Eigen::Index>(i)) = h.fine_volume.V.row(selected[i]);
   const TetMesh hull = tetrahedralize_points(selected_points, source);
 
   // Remove coarse tets outside the surface (a Delaunay mesh fills the convex hull).

@@ -9,10 +9,10 @@
 namespace tb {
 
 struct HybridBuildOptions {
-  TetgenOptions fine_tetgen;       ///< the fine base mesh (also the FEM reference)
-  int target_coarse_nodes = 150;   ///< coarse node count to aim for (paper: 153)
-  double coarse_spacing = 0;       ///< if > 0, used instead of target_coarse_nodes
-  double feature_angle_deg = 30;   ///< creases and corners are selected first
+  TetgenOptions fine_tetgen;      ///< the fine base mesh (also the FEM reference)
+  int target_coarse_nodes = 150;  ///< coarse node count to aim for (paper: 153)
+  double coarse_spacing = 0;      ///< if > 0, used instead of target_coarse_nodes
+  double feature_angle_deg = 30;  ///< creases and corners are selected first
 };
 
 /// Paper 1.2: fine surface -> fine base tet mesh (TetGen) -> coverage selection of

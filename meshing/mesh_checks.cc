@@ -117,7 +117,10 @@ SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh
   size_t nonmanifold_vertices = 0, unused = 0;
   for (int v = 0; v < nv; ++v) {
     const auto& fan = vertex_faces[static_cast<size_t>(v)];
-    if (fan.empty()) { ++unused; continue; }
+    if (fan.empty()) {
+      ++unused;
+      continue;
+    }
     // Walk across edges incident to v, starting at the first triangle.
     std::set<int> reached{fan[0]};
     std::queue<int> q;
@@ -135,14 +138,15 @@ SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh
     if (reached.size() != fan.size()) ++nonmanifold_vertices;
   }
   if (nonmanifold_vertices)
-    throw MeshError(file, "not 2-manifold: " + count_of(nonmanifold_vertices, "vertices whose triangles form more than one fan"));
+    throw MeshError(
+        file, "not 2-manifold: " + count_of(nonmanifold_vertices, "vertices whose triangles form more than one fan"));
   if (unused) throw MeshError(file, count_of(unused, "vertices used by no triangle"));
 
   // Consistent orientation: neighbours must traverse their shared edge in opposite
   // directions. Flood-fill each connected component, flipping as needed.
   SurfaceCheckReport report;
   std::vector<int> state(static_cast<size_t>(nf), -1);  // -1 unvisited, 0 keep, 1 flip
-  auto directed = [&](int t, int a, int b) {  // does triangle t (with its flip) go a -> b?
+  auto directed = [&](int t, int a, int b) {            // does triangle t (with its flip) go a -> b?
     for (int k = 0; k < 3; ++k)
       if (m.F(t, k) == a && m.F(t, (k + 1) % 3) == b) return state[static_cast<size_t>(t)] == 0;
     return state[static_cast<size_t>(t)] == 1;
@@ -175,7 +179,9 @@ SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh
       }
     }
   }
-  if (nonorientable) throw MeshError(file, "not orientable (a Moebius-like surface): " + count_of(nonorientable / 2, "conflicting edges"));
+  if (nonorientable)
+    throw MeshError(file,
+                    "not orientable (a Moebius-like surface): " + count_of(nonorientable / 2, "conflicting edges"));
   for (int t = 0; t < nf; ++t)
     if (state[static_cast<size_t>(t)] == 1) {
       std::swap(m.F(t, 1), m.F(t, 2));

@@ -39,14 +39,11 @@ struct PointField {
 };
 
 /// Writes a surface as an ASCII .vtu (ParaView opens it), with point fields.
-void write_surface_vtu(const std::string& path, const SurfaceMesh& mesh,
-                       const std::vector<PointField>& fields = {});
+void write_surface_vtu(const std::string& path, const SurfaceMesh& mesh, const std::vector<PointField>& fields = {});
 /// Writes a tet volume as an ASCII .vtu, with point fields.
-void write_volume_vtu(const std::string& path, const TetMesh& mesh,
-                      const std::vector<PointField>& fields = {});
+void write_volume_vtu(const std::string& path, const TetMesh& mesh, const std::vector<PointField>& fields = {});
 /// Writes points only (e.g. control points) as an ASCII .vtu of vertex cells.
-void write_points_vtu(const std::string& path, const Points& points,
-                      const std::vector<PointField>& fields = {});
+void write_points_vtu(const std::string& path, const Points& points, const std::vector<PointField>& fields = {});
 /// Writes a surface as Wavefront OBJ.
 void write_obj(const std::string& path, const SurfaceMesh& mesh);
 

@@ -32,8 +32,8 @@ struct TetMesh {
 /// combination of the coarse tet's nodes (eq. 33 places it there every frame).
 /// When the vertex coincides with a coarse node, weights is a unit vector.
 struct ControlPoint {
-  int surface_vertex = -1;       ///< index into the fine surface's V
-  int coarse_tet = -1;           ///< index into the coarse volume's T
+  int surface_vertex = -1;              ///< index into the fine surface's V
+  int coarse_tet = -1;                  ///< index into the coarse volume's T
   Eigen::Vector4d weights{1, 0, 0, 0};  ///< barycentric weights, sum to 1
 };
 

@@ -57,8 +57,7 @@ int count_self_intersections(const SurfaceMesh& surface) {
 SurfaceMesh repair_self_intersections(const SurfaceMesh& surface, const std::string& source) {
   CgalMesh m = to_cgal(surface);
   PMP::experimental::remove_self_intersections(m);
-  if (PMP::does_self_intersect(m))
-    throw MeshError(source, "self-intersections remain after CGAL's repair");
+  if (PMP::does_self_intersect(m)) throw MeshError(source, "self-intersections remain after CGAL's repair");
   return from_cgal(m);
 }
 

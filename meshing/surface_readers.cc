@@ -79,11 +79,16 @@ SurfaceMesh read_off(const std::string& file, double scale) {
   LineCursor c(file, read_file(file), '#');
   auto t = c.next("OFF header");
   size_t first = 0;
-  if (t[0] == "OFF") first = 1;
-  else if (t[0].size() > 3 && t[0].compare(0, 3, "OFF") == 0 && t[0] != "OFF") c.fail("unsupported OFF variant '" + t[0] + "'");
-  else c.fail("not an OFF file (missing 'OFF' header)");
-  if (t.size() == first) t = c.next("vertex and face counts");
-  else t.erase(t.begin());
+  if (t[0] == "OFF")
+    first = 1;
+  else if (t[0].size() > 3 && t[0].compare(0, 3, "OFF") == 0 && t[0] != "OFF")
+    c.fail("unsupported OFF variant '" + t[0] + "'");
+  else
+    c.fail("not an OFF file (missing 'OFF' header)");
+  if (t.size() == first)
+    t = c.next("vertex and face counts");
+  else
+    t.erase(t.begin());
   if (t.size() < 2) c.fail("expected vertex and face counts");
   const long nv = to_long(c, t[0]), nf = to_long(c, t[1]);
   if (nv < 0 || nf < 0) c.fail("negative counts");
@@ -131,8 +136,8 @@ SurfaceMesh read_stl(const std::string& file, double scale) {
   if (binary || !looks_ascii) {
     if (data.size() < 84) throw MeshError(file, "truncated binary STL (shorter than its 84-byte header)");
     if (data.size() < 84 + 50ull * count)
-      throw MeshError(file, "truncated binary STL: header says " + std::to_string(count) +
-                                " triangles, file holds " + std::to_string((data.size() - 84) / 50));
+      throw MeshError(file, "truncated binary STL: header says " + std::to_string(count) + " triangles, file holds " +
+                                std::to_string((data.size() - 84) / 50));
     for (uint32_t t = 0; t < count; ++t) {
       const char* rec = data.data() + 84 + 50ull * t + 12;  // skip the normal
       std::array<long, 3> tri{};
@@ -140,7 +145,8 @@ SurfaceMesh read_stl(const std::string& file, double scale) {
         float xyz[3];
         std::memcpy(xyz, rec + 12 * k, 12);
         for (float f : xyz)
-          if (!std::isfinite(f)) throw MeshError(file, "triangle " + std::to_string(t) + " has a NaN or Inf coordinate");
+          if (!std::isfinite(f))
+            throw MeshError(file, "triangle " + std::to_string(t) + " has a NaN or Inf coordinate");
         tri[k] = m.add({xyz[0], xyz[1], xyz[2]});
       }
       m.s.triangles.push_back(tri);
@@ -200,7 +206,10 @@ class PlyBinary {
     std::memcpy(b, data_.data() + pos_, n);
     pos_ += n;
     if (big_) std::reverse(b, b + n);
-    auto get = [&](auto v) { std::memcpy(&v, b, sizeof v); return static_cast<double>(v); };
+    auto get = [&](auto v) {
+      std::memcpy(&v, b, sizeof v);
+      return static_cast<double>(v);
+    };
     if (t == "char" || t == "int8") return get(int8_t{});
     if (t == "uchar" || t == "uint8") return get(uint8_t{});
     if (t == "short" || t == "int16") return get(int16_t{});
@@ -229,12 +238,17 @@ SurfaceMesh read_ply(const std::string& file, double scale) {
   while (std::getline(hs, line)) {
     auto t = detail::split_whitespace(line);
     if (t.empty()) continue;
-    if (t[0] == "format" && t.size() > 1) format = t[1];
-    else if (t[0] == "element" && t.size() == 3) elements.push_back({t[1], std::stol(t[2]), {}});
+    if (t[0] == "format" && t.size() > 1)
+      format = t[1];
+    else if (t[0] == "element" && t.size() == 3)
+      elements.push_back({t[1], std::stol(t[2]), {}});
     else if (t[0] == "property" && !elements.empty()) {
-      if (t.size() == 5 && t[1] == "list") elements.back().props.push_back({t[4], t[3], t[2]});
-      else if (t.size() == 3) elements.back().props.push_back({t[2], t[1], ""});
-      else throw MeshError(file, "malformed PLY property line '" + line + "'");
+      if (t.size() == 5 && t[1] == "list")
+        elements.back().props.push_back({t[4], t[3], t[2]});
+      else if (t.size() == 3)
+        elements.back().props.push_back({t[2], t[1], ""});
+      else
+        throw MeshError(file, "malformed PLY property line '" + line + "'");
     }
   }
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
@@ -307,8 +321,7 @@ SurfaceMesh read_ply(const std::string& file, double scale) {
 }  // namespace
 
 SurfaceMesh read_surface(const std::string& path, double unit_scale) {
-  if (!(unit_scale > 0) || !std::isfinite(unit_scale))
-    throw MeshError(path, "unit scale must be a positive number");
+  if (!(unit_scale > 0) || !std::isfinite(unit_scale)) throw MeshError(path, "unit scale must be a positive number");
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext == ".obj") return read_obj(path, unit_scale);

@@ -44,8 +44,8 @@ void write_nodes(std::ostringstream& os, const Points& V) {
 
 /// Runs tetgen with `switches` on `input` inside `dir`; returns the mesh it wrote
 /// (<stem>.1.node/.ele).
-TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::string& switches,
-                   double timeout_seconds, const std::string& source) {
+TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::string& switches, double timeout_seconds,
+                   const std::string& source) {
   const std::string log = (dir.path / "tetgen.log").string();
   std::ostringstream cmd;
   cmd << "timeout " << static_cast<int>(timeout_seconds) << ' ' << shell_quote(tetgen_program()) << " -" << switches
@@ -62,7 +62,8 @@ TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::stri
     const size_t nl = tail.rfind('\n');
     if (nl != std::string::npos) tail = tail.substr(nl + 1);
     if (WEXITSTATUS(status) == 124)
-      throw MeshError(source, "tetgen did not finish within " + std::to_string(static_cast<int>(timeout_seconds)) + " s");
+      throw MeshError(source,
+                      "tetgen did not finish within " + std::to_string(static_cast<int>(timeout_seconds)) + " s");
     throw MeshError(source, "tetgen -" + switches + " failed (exit " + std::to_string(WEXITSTATUS(status)) +
                                 "): " + (tail.empty() ? "no output" : tail));
   }
@@ -81,10 +82,12 @@ std::string tetgen_program() {
     std::stringstream ss(path);
     std::string dir;
     while (std::getline(ss, dir, ':'))
-      if (!dir.empty() && ::access((fs::path(dir) / "tetgen").c_str(), X_OK) == 0) return (fs::path(dir) / "tetgen").string();
+      if (!dir.empty() && ::access((fs::path(dir) / "tetgen").c_str(), X_OK) == 0)
+        return (fs::path(dir) / "tetgen").string();
   }
-  throw std::runtime_error("the tetgen program was not found (install the Debian package: apt-get install tetgen, "
-                           "or set TISSUEBENCH_TETGEN)");
+  throw std::runtime_error(
+      "the tetgen program was not found (install the Debian package: apt-get install tetgen, "
+      "or set TISSUEBENCH_TETGEN)");
 }
 
 TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& o, const std::string& source) {

@@ -18,8 +18,7 @@ struct TetgenOptions {
 /// surface vertex is a volume node and no Steiner point is added on it (-pY).
 /// The surface's vertices come first in the result, in their order.
 /// `source` names the surface's file in error messages.
-TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& options,
-                               const std::string& source);
+TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& options, const std::string& source);
 
 /// Delaunay tetrahedralization of a point set (its convex hull).
 TetMesh tetrahedralize_points(const Points& points, const std::string& source);

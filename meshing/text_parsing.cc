@@ -45,8 +45,7 @@ double to_double(const LineCursor& c, const std::string& token) {
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(token.c_str(), &end);
-  if (end == token.c_str() || *end != '\0' || errno == ERANGE)
-    c.fail("expected a number, found '" + token + "'");
+  if (end == token.c_str() || *end != '\0' || errno == ERANGE) c.fail("expected a number, found '" + token + "'");
   if (!std::isfinite(v)) c.fail("coordinate is NaN or Inf ('" + token + "')");
   return v;
 }
@@ -55,8 +54,7 @@ long to_long(const LineCursor& c, const std::string& token) {
   errno = 0;
   char* end = nullptr;
   const long v = std::strtol(token.c_str(), &end, 10);
-  if (end == token.c_str() || *end != '\0' || errno == ERANGE)
-    c.fail("expected an integer, found '" + token + "'");
+  if (end == token.c_str() || *end != '\0' || errno == ERANGE) c.fail("expected an integer, found '" + token + "'");
   return v;
 }
 

@@ -2,12 +2,11 @@
 // numbers, and number parsing that names the file and line when it fails.
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "mesh_error.h"
 

@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include "mesh_checks.h"
@@ -31,8 +31,7 @@ std::vector<int> surface_feature_priority(const SurfaceMesh& s, double feature_a
       ++feature_edges[static_cast<size_t>(e.second)];
     }
   std::vector<int> priority(feature_edges.size());
-  for (size_t v = 0; v < priority.size(); ++v)
-    priority[v] = feature_edges[v] >= 3 ? 0 : feature_edges[v] >= 1 ? 1 : 2;
+  for (size_t v = 0; v < priority.size(); ++v) priority[v] = feature_edges[v] >= 3 ? 0 : feature_edges[v] >= 1 ? 1 : 2;
   return priority;
 }
 

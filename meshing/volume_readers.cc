@@ -96,8 +96,8 @@ TetMesh read_msh(const std::string& file, double scale) {
         size_t first = v2 ? 3 + static_cast<size_t>(to_long(c, e[2])) : 5;
         if (type != 4) continue;  // 4 = 4-node tetrahedron; points, lines, triangles ignored
         if (e.size() < first + 4) c.fail("tetrahedron with fewer than 4 nodes");
-        m.tets.push_back({to_long(c, e[first]), to_long(c, e[first + 1]), to_long(c, e[first + 2]),
-                          to_long(c, e[first + 3])});
+        m.tets.push_back(
+            {to_long(c, e[first]), to_long(c, e[first + 1]), to_long(c, e[first + 2]), to_long(c, e[first + 3])});
       }
       expect_section_end(c, v2 ? "$EndElements" : "$ENDELM");
       have_elements = true;
@@ -164,8 +164,7 @@ Triangles read_tetgen_faces(const std::string& face_path, int first_index) {
 }
 
 TetMesh read_volume(const std::string& path, double unit_scale) {
-  if (!(unit_scale > 0) || !std::isfinite(unit_scale))
-    throw MeshError(path, "unit scale must be a positive number");
+  if (!(unit_scale > 0) || !std::isfinite(unit_scale)) throw MeshError(path, "unit scale must be a positive number");
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext == ".msh") return read_msh(path, unit_scale);

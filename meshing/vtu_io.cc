@@ -54,8 +54,7 @@ std::string vtu_text(const std::string& path, const Points& V, const Cells& cell
 
 /// The text between the '>' closing the DataArray tag that contains `key` and the
 /// next "</DataArray>", searching from `from`.
-std::string data_array_text(const std::string& file, const std::string& xml, const std::string& key,
-                            size_t from = 0) {
+std::string data_array_text(const std::string& file, const std::string& xml, const std::string& key, size_t from = 0) {
   const size_t k = xml.find(key, from);
   if (k == std::string::npos) throw MeshError(file, "VTU lacks " + key);
   const size_t tag = xml.rfind("<DataArray", k);
@@ -141,9 +140,12 @@ VtuCells read_vtu_cells(const std::string& file, int vtk_cell_type, int nodes_pe
       }
     start = end;
   }
-  if (bad) throw MeshError(file, std::to_string(bad) + " cell point indices out of range [0, " + std::to_string(nv) + ")");
+  if (bad)
+    throw MeshError(file, std::to_string(bad) + " cell point indices out of range [0, " + std::to_string(nv) + ")");
   out.cells.resize(static_cast<Eigen::Index>(picked.size()) / nodes_per_cell, nodes_per_cell);
-  for (size_t k = 0; k < picked.size(); ++k) out.cells(static_cast<Eigen::Index>(k) / nodes_per_cell, static_cast<Eigen::Index>(k) % nodes_per_cell) = static_cast<int>(picked[k]);
+  for (size_t k = 0; k < picked.size(); ++k)
+    out.cells(static_cast<Eigen::Index>(k) / nodes_per_cell, static_cast<Eigen::Index>(k) % nodes_per_cell) =
+        static_cast<int>(picked[k]);
   return out;
 }
 

@@ -30,8 +30,10 @@ Parameters resolve_parameters(const std::vector<ParameterSpec>& specs, const nlo
   if (!given.is_null() && !given.is_object()) throw std::invalid_argument(where + ": must be an object");
   Parameters p;
   for (const auto& s : specs) {
-    if (s.choices.empty()) p.set_number(s.name, s.default_number);
-    else p.set_choice(s.name, s.default_choice);
+    if (s.choices.empty())
+      p.set_number(s.name, s.default_number);
+    else
+      p.set_choice(s.name, s.default_choice);
   }
   if (given.is_null()) return p;
   for (const auto& [key, value] : given.items()) {

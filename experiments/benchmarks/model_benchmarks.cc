@@ -134,14 +134,28 @@ void BM_PbdFrameScaling(benchmark::State& state) {
   auto m = make_model("pbd", mesh, kCubeBottom, 10);
   for (auto _ : state) m->step(kCubeLoad);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
-  state.counters["ns_per_vertex"] = benchmark::Counter(
-      static_cast<double>(mesh.fine_surface.V.rows()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_vertex"] =
+      benchmark::Counter(static_cast<double>(mesh.fine_surface.V.rows()),
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-BENCHMARK(BM_FemSetup)->ArgNames({"refine", "iterative"})->ArgsProduct({{1, 4, 16}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_FemFrame)->ArgNames({"refine", "iterative"})->ArgsProduct({{1, 4, 16}, {0, 1}})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PbdFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {5, 10, 20}})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_HybridFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {5, 10, 20}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FemSetup)
+    ->ArgNames({"refine", "iterative"})
+    ->ArgsProduct({{1, 4, 16}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK(BM_FemFrame)
+    ->ArgNames({"refine", "iterative"})
+    ->ArgsProduct({{1, 4, 16}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdFrame)
+    ->ArgNames({"liver", "iterations"})
+    ->ArgsProduct({{0, 1}, {5, 10, 20}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HybridFrame)
+    ->ArgNames({"liver", "iterations"})
+    ->ArgsProduct({{0, 1}, {5, 10, 20}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
 // 40 divisions: 9602 vertices; 129: 99 848 vertices.
 BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)->Unit(benchmark::kMillisecond);

@@ -51,9 +51,14 @@ ModelInfo fem_model_info() {
   return {"fem",
           "Linear FEM on the fine tet volume (P1, deal.II assembly); the accuracy reference",
           false,
-          {{"solver", 0, 0, 0, "direct: CHOLMOD factorisation in setup, back-substitution per frame; "
-                               "iterative: IC-preconditioned CG from the previous frame's solution",
-            {"direct", "iterative"}, "direct"},
+          {{"solver",
+            0,
+            0,
+            0,
+            "direct: CHOLMOD factorisation in setup, back-substitution per frame; "
+            "iterative: IC-preconditioned CG from the previous frame's solution",
+            {"direct", "iterative"},
+            "direct"},
            {"cg_tolerance", 1e-8, 1e-14, 1e-2, "relative residual tolerance of the iterative solver"}},
           [] { return std::make_unique<FemModel>(); }};
 }

@@ -75,10 +75,14 @@ class HybridModel : public Model {
 
 ModelInfo hybrid_model_info() {
   std::vector<ParameterSpec> specs = pbd::parameter_specs();
-  specs.push_back({"surface_force", 0, 0, 0,
+  specs.push_back({"surface_force",
+                   0,
+                   0,
+                   0,
                    "nearest_vertex: eq. (31) also applies the load to the nearest free surface vertex, as in the "
                    "paper's step 2; none: the load acts only through the coarse FEM",
-                   {"nearest_vertex", "none"}, "nearest_vertex"});
+                   {"nearest_vertex", "none"},
+                   "nearest_vertex"});
   return {"hybrid", "Coarse linear FEM pins the fine surface's control points; PBD moves the rest (paper 1.5)", true,
           specs, [] { return std::make_unique<HybridModel>(); }};
 }

@@ -15,13 +15,22 @@ std::vector<ParameterSpec> parameter_specs() {
       {"iterations", 10, 1, 1000, "Gauss-Seidel projection sweeps per frame", {}, {}, true},
       {"stretch_stiffness", 1.0, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"},
       {"bending_stiffness", 1.0, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"},
-      {"stiffness_correction", 0, 0, 0, "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given",
-       {"mueller2007", "none"}, "mueller2007"},
+      {"stiffness_correction",
+       0,
+       0,
+       0,
+       "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given",
+       {"mueller2007", "none"},
+       "mueller2007"},
       {"damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"},
-      {"bending_angle", 0, 0, 0,
+      {"bending_angle",
+       0,
+       0,
+       0,
        "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
        "signed: theta - theta0, smooth there",
-       {"unsigned", "signed"}, "unsigned"},
+       {"unsigned", "signed"},
+       "unsigned"},
   };
 }
 
@@ -67,9 +76,8 @@ ConstraintSet build_constraints(const SurfaceMesh& s) {
   for (size_t b = 0; b < bends.size(); ++b) {
     const auto& q = bends[b];
     c.bending.row(static_cast<Eigen::Index>(b)) << q[0], q[1], q[2], q[3];
-    c.bending_rest(static_cast<Eigen::Index>(b)) =
-        signed_normal_angle(s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(),
-                            s.V.row(q[3]).transpose());
+    c.bending_rest(static_cast<Eigen::Index>(b)) = signed_normal_angle(
+        s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(), s.V.row(q[3]).transpose());
   }
   return c;
 }
@@ -87,8 +95,13 @@ Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
 }
 
 Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings)
-    : rest_(rest.V), x_(rest.V), p_(rest.V), v_(Points::Zero(rest.V.rows(), 3)), w_(inverse_mass),
-      c_(build_constraints(rest)), s_(settings) {
+    : rest_(rest.V),
+      x_(rest.V),
+      p_(rest.V),
+      v_(Points::Zero(rest.V.rows(), 3)),
+      w_(inverse_mass),
+      c_(build_constraints(rest)),
+      s_(settings) {
   if (w_.size() != rest.V.rows()) throw std::invalid_argument("inverse masses: one per vertex expected");
   // The projection's working copy of the constraints: those that can move
   // something (a constraint whose vertices are all fixed is skipped).
@@ -100,7 +113,8 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
     BendItem item{{c_.bending(i, 0), c_.bending(i, 1), c_.bending(i, 2), c_.bending(i, 3)}, c_.bending_rest(i)};
     if (w_(item.q[0]) > 0 || w_(item.q[1]) > 0 || w_(item.q[2]) > 0 || w_(item.q[3]) > 0) bending_.push_back(item);
   }
-  k_stretch_ = s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
+  k_stretch_ =
+      s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
 }
 
@@ -132,7 +146,8 @@ void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vect
   if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
   v_ *= (1 - s_.damping);
   p_ = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
-  for (size_t k = 0; k < pinned.size(); ++k) p_.row(pinned[k]) = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
+  for (size_t k = 0; k < pinned.size(); ++k)
+    p_.row(pinned[k]) = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   for (int it = 0; it < s_.iterations; ++it) project_all(it % 2 == 1);
   v_ = (p_ - x_) / dt;  // eq. (35)
   x_ = p_;              // eq. (34)

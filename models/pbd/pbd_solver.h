@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "mesh_types.h"
 #include "constraints.h"
+#include "mesh_types.h"
 #include "parameters.h"
 
 namespace tb::pbd {
@@ -16,12 +16,12 @@ namespace tb::pbd {
 std::vector<ParameterSpec> parameter_specs();
 
 struct Settings {
-  double time_step = 0.01;        ///< s
-  int iterations = 10;            ///< Gauss-Seidel sweeps per frame
-  double stretch_stiffness = 1;   ///< in [0, 1]
-  double bending_stiffness = 1;   ///< in [0, 1]
-  bool correct_stiffness = true;  ///< Mueller 2007: 1 - (1 - k)^(1/n)
-  double damping = 0.05;          ///< fraction of velocity removed per frame
+  double time_step = 0.01;                              ///< s
+  int iterations = 10;                                  ///< Gauss-Seidel sweeps per frame
+  double stretch_stiffness = 1;                         ///< in [0, 1]
+  double bending_stiffness = 1;                         ///< in [0, 1]
+  bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
+  double damping = 0.05;                                ///< fraction of velocity removed per frame
   BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
   static Settings from(const Parameters& p);
 };

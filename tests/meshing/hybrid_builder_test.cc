@@ -2,18 +2,17 @@
 #include "hybrid_builder.h"
 
 #include <gtest/gtest.h>
-
-#include <Eigen/Geometry>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <set>
 
 #include "atomic_file.h"
 #include "cube_generator.h"
 #include "mesh_checks.h"
-#include "mesh_io.h"
 #include "mesh_error.h"
+#include "mesh_io.h"
 #include "mesh_recipe.h"
 #include "point_location.h"
 #include "scenario.h"

@@ -4,15 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <Eigen/SparseCholesky>
 #include <cmath>
 
 #include "cube_generator.h"
 #include "hybrid_builder.h"
 #include "stiffness_assembly.h"
-#include "tetgen_driver.h"
 #include "test_support.h"
+#include "tetgen_driver.h"
 
 namespace tb {
 namespace {
@@ -133,8 +132,7 @@ double manufactured_l2_error(int n) {
     // Second derivatives of phi: phi_ii = -pi^2 phi, phi_ij = pi^2 c_i c_j s_k.
     Eigen::Matrix3d H;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        H(i, j) = i == j ? -pi * pi * phi : pi * pi * c(i) * c(j) * s(3 - i - j);
+      for (int j = 0; j < 3; ++j) H(i, j) = i == j ? -pi * pi * phi : pi * pi * c(i) * c(j) * s(3 - i - j);
     const Eigen::Vector3d grad_div = H.rowwise().sum();  // d_i (phi_x + phi_y + phi_z)
     const Eigen::Vector3d laplace = Eigen::Vector3d::Constant(-3 * pi * pi * phi);
     return Eigen::Vector3d(-((lambda + mu) * grad_div + mu * laplace));
@@ -181,7 +179,8 @@ TEST(Stiffness, ManufacturedSolutionConvergesAtSecondOrderInL2) {
   const double e4 = manufactured_l2_error(4), e8 = manufactured_l2_error(8), e16 = manufactured_l2_error(16);
   const double rate1 = std::log2(e4 / e8), rate2 = std::log2(e8 / e16);
   RecordProperty("l2_errors", std::to_string(e4) + " " + std::to_string(e8) + " " + std::to_string(e16));
-  EXPECT_GT(rate2, 1.7) << "L2 errors " << e4 << ", " << e8 << ", " << e16 << " (rates " << rate1 << ", " << rate2 << ")";
+  EXPECT_GT(rate2, 1.7) << "L2 errors " << e4 << ", " << e8 << ", " << e16 << " (rates " << rate1 << ", " << rate2
+                        << ")";
   EXPECT_LT(rate2, 2.5);
 }
 

@@ -6,7 +6,6 @@
 
 #include <Eigen/Geometry>
 #include <functional>
-
 #include <random>
 
 namespace tb::pbd {
@@ -72,7 +71,8 @@ TEST(BendingConstraint, GradientMatchesFiniteDifferences) {
   std::uniform_real_distribution<double> U(-1, 1);
   int tested = 0;
   for (int trial = 0; trial < 400 && tested < 100; ++trial) {
-    Vec3 p[4] = {{U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}};
+    Vec3 p[4] = {
+        {U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}, {U(rng), U(rng), U(rng)}};
     const double angle = normal_angle(p[0], p[1], p[2], p[3]);
     // Non-degenerate: away from flat/folded (arccos is not differentiable there)
     // and from thin triangles.
