@@ -94,8 +94,6 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
   }
   std::vector<int> new_index;
   h.coarse_volume = compact(hull, inside, new_index);
-  for (size_t i = 0; i < selected.size(); ++i)
-    if (new_index[i] >= 0) h.selected_fine_nodes.push_back(selected[i]);
 
   // Control points: selected vertices on the fine surface, weight 1 on their node.
   for (size_t i = 0; i < selected.size(); ++i) {

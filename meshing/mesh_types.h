@@ -47,9 +47,6 @@ struct HybridMesh {
   std::vector<int> fine_surface_to_volume;
   TetMesh coarse_volume;
   std::vector<ControlPoint> control_points;
-  /// Indices (into fine_volume.V) of the base-mesh vertices selected as coarse
-  /// nodes; empty on the given-coarse path.
-  std::vector<int> selected_fine_nodes;
 };
 
 }  // namespace tb
