@@ -48,7 +48,7 @@ def write_table(out_dir, name, header, rows, notes=""):
     w.writerows(rows)
     with open(os.path.join(out_dir, name + ".csv"), "w") as f:
         f.write(buf.getvalue())
-    md = "| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n"
+    md = "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |\n|" + "---|" * len(header) + "\n"
     md += "".join("| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |\n" for r in rows)
     if notes:
         md += "\n" + notes.strip() + "\n"

@@ -200,7 +200,7 @@ SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh
   return report;
 }
 
-int orient_and_check_tets(const std::string& file, TetMesh& m) {
+int orient_and_check_tets(const std::string& file, TetMesh& m, FlatTets flat_policy) {
   check_finite(file, m.V);
   const int nv = static_cast<int>(m.V.rows());
   size_t bad_index = 0;
@@ -211,16 +211,21 @@ int orient_and_check_tets(const std::string& file, TetMesh& m) {
   const double diag = bounding_box_diagonal(m.V);
   size_t flat = 0;
   int flipped = 0;
+  Eigen::Index kept = 0;
   for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
     const double v = tet_volume(row(m.V, m.T(t, 0)), row(m.V, m.T(t, 1)), row(m.V, m.T(t, 2)), row(m.V, m.T(t, 3)));
     if (std::abs(v) <= 1e-14 * diag * diag * diag) {
       ++flat;
-    } else if (v < 0) {
+      continue;
+    }
+    if (v < 0) {
       std::swap(m.T(t, 2), m.T(t, 3));
       ++flipped;
     }
+    m.T.row(kept++) = m.T.row(t);
   }
-  if (flat) throw MeshError(file, count_of(flat, "tetrahedra with zero volume"));
+  if (flat && flat_policy == FlatTets::Error) throw MeshError(file, count_of(flat, "tetrahedra with zero volume"));
+  m.T.conservativeResize(kept, 4);
   return flipped;
 }
 

@@ -19,10 +19,16 @@ struct SurfaceCheckReport {
 /// Does not look for self-intersections (see find_self_intersections).
 SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh& mesh);
 
-/// Checks tets: indices in range, finite coordinates, no zero-volume tet (relative
-/// to the mesh size); swaps two nodes of each negatively oriented tet. In place.
+/// What to do with tets of zero volume (relative to the mesh size).
+enum class FlatTets {
+  Error,  ///< a mesh read from a file: an error naming the file and the count
+  Drop,   ///< a Delaunay mesh of points (coplanar hull points give slivers): remove them
+};
+
+/// Checks tets: indices in range, finite coordinates, zero-volume tets per
+/// `flat`; swaps two nodes of each negatively oriented tet. In place.
 /// Returns how many tets were reoriented.
-int orient_and_check_tets(const std::string& file, TetMesh& mesh);
+int orient_and_check_tets(const std::string& file, TetMesh& mesh, FlatTets flat = FlatTets::Error);
 
 /// Signed volume enclosed by a closed, outward-oriented surface (divergence theorem).
 double enclosed_volume(const SurfaceMesh& mesh);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_checks.h"
 #include "mesh_types.h"
 
 namespace tb {
@@ -26,7 +27,7 @@ SurfaceMesh read_surface(const std::string& path, double unit_scale = 1.0);
 ///   .node TetGen (.ele beside it, same stem)
 ///   .vtu  ASCII VTK unstructured grid; tetrahedra kept
 /// Node ids may be any integers; unused nodes are kept.
-TetMesh read_volume(const std::string& path, double unit_scale = 1.0);
+TetMesh read_volume(const std::string& path, double unit_scale = 1.0, FlatTets flat = FlatTets::Error);
 
 /// Reads the triangles of a TetGen .face file (indices mapped to 0-based using the
 /// .node file's first index).

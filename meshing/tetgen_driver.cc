@@ -45,7 +45,7 @@ void write_nodes(std::ostringstream& os, const Points& V) {
 /// Runs tetgen with `switches` on `input` inside `dir`; returns the mesh it wrote
 /// (<stem>.1.node/.ele).
 TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::string& switches, double timeout_seconds,
-                   const std::string& source) {
+                   const std::string& source, FlatTets flat) {
   const std::string log = (dir.path / "tetgen.log").string();
   std::ostringstream cmd;
   cmd << "timeout " << static_cast<int>(timeout_seconds) << ' ' << shell_quote(tetgen_program()) << " -" << switches
@@ -68,7 +68,7 @@ TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::stri
                                 "): " + (tail.empty() ? "no output" : tail));
   }
   const std::string stem = fs::path(input).replace_extension("").string();
-  return read_volume(stem + ".1.ele");
+  return read_volume(stem + ".1.ele", 1.0, flat);
 }
 
 }  // namespace
@@ -104,7 +104,7 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& 
   sw << std::setprecision(10) << "pYzQ";
   if (o.radius_edge_ratio > 0) sw << 'q' << o.radius_edge_ratio;
   if (o.max_volume > 0) sw << 'a' << o.max_volume;
-  TetMesh m = run_tetgen(dir, input, sw.str(), o.timeout_seconds, source);
+  TetMesh m = run_tetgen(dir, input, sw.str(), o.timeout_seconds, source, FlatTets::Error);
   // -Y keeps the surface and tetgen numbers input points first: check it held.
   if (m.V.rows() < surface.V.rows() ||
       (m.V.topRows(surface.V.rows()) - surface.V).cwiseAbs().maxCoeff() > 1e-12 * (1 + surface.V.cwiseAbs().maxCoeff()))
@@ -118,7 +118,9 @@ TetMesh tetrahedralize_points(const Points& points, const std::string& source) {
   write_nodes(os, points);
   const std::string input = (dir.path / "points.node").string();
   write_file_atomically(input, os.str());
-  TetMesh m = run_tetgen(dir, input, "zQ", 600, source);
+  // Coplanar points on the hull (a flat face of the surface) can give Delaunay
+  // slivers of zero volume: they carry no stiffness and are removed.
+  TetMesh m = run_tetgen(dir, input, "zQ", 600, source, FlatTets::Drop);
   if (m.V.rows() != points.rows()) throw MeshError(source, "tetgen changed the number of points (duplicates?)");
   return m;
 }

@@ -20,7 +20,8 @@ struct TetgenOptions {
 /// `source` names the surface's file in error messages.
 TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& options, const std::string& source);
 
-/// Delaunay tetrahedralization of a point set (its convex hull).
+/// Delaunay tetrahedralization of a point set (its convex hull), without the
+/// zero-volume slivers that coplanar hull points can produce.
 TetMesh tetrahedralize_points(const Points& points, const std::string& source);
 
 /// The tetgen program used, or throws std::runtime_error with install advice.

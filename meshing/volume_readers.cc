@@ -23,7 +23,7 @@ struct IdMesh {
   std::vector<std::array<long, 4>> tets;
 };
 
-TetMesh resolve_ids(const std::string& file, const IdMesh& m, double scale) {
+TetMesh resolve_ids(const std::string& file, const IdMesh& m, double scale, FlatTets flat) {
   if (m.points.empty()) throw MeshError(file, "no nodes");
   if (m.tets.empty()) throw MeshError(file, "no tetrahedra");
   std::unordered_map<long, int> index;
@@ -50,7 +50,7 @@ TetMesh resolve_ids(const std::string& file, const IdMesh& m, double scale) {
   if (missing)
     throw MeshError(file, std::to_string(missing) + " tetrahedron node references out of range (e.g. node " +
                               std::to_string(example) + " is not defined)");
-  orient_and_check_tets(file, out);
+  orient_and_check_tets(file, out, flat);
   return out;
 }
 
@@ -110,7 +110,7 @@ TetMesh read_msh(const std::string& file, double scale) {
   }
   if (!have_nodes) throw MeshError(file, "no $Nodes/$NOD section");
   if (!have_elements) throw MeshError(file, "no $Elements/$ELM section");
-  return resolve_ids(file, m, scale);
+  return resolve_ids(file, m, scale, FlatTets::Error);
 }
 
 std::string with_extension(const std::string& path, const std::string& ext) {
@@ -133,7 +133,7 @@ long read_tetgen_nodes(const std::string& node_file, IdMesh& m) {
   return first;
 }
 
-TetMesh read_tetgen(const std::string& path, double scale) {
+TetMesh read_tetgen(const std::string& path, double scale, FlatTets flat) {
   IdMesh m;
   read_tetgen_nodes(with_extension(path, ".node"), m);
   const std::string ele = with_extension(path, ".ele");
@@ -146,7 +146,7 @@ TetMesh read_tetgen(const std::string& path, double scale) {
     if (e.size() < 5) c.fail("tetrahedron with fewer than 4 nodes");
     m.tets.push_back({to_long(c, e[1]), to_long(c, e[2]), to_long(c, e[3]), to_long(c, e[4])});
   }
-  return resolve_ids(ele, m, scale);
+  return resolve_ids(ele, m, scale, flat);
 }
 
 }  // namespace
@@ -163,17 +163,17 @@ Triangles read_tetgen_faces(const std::string& face_path, int first_index) {
   return F;
 }
 
-TetMesh read_volume(const std::string& path, double unit_scale) {
+TetMesh read_volume(const std::string& path, double unit_scale, FlatTets flat) {
   if (!(unit_scale > 0) || !std::isfinite(unit_scale)) throw MeshError(path, "unit scale must be a positive number");
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext == ".msh") return read_msh(path, unit_scale);
-  if (ext == ".ele" || ext == ".node") return read_tetgen(path, unit_scale);
+  if (ext == ".ele" || ext == ".node") return read_tetgen(path, unit_scale, flat);
   if (ext == ".vtu") {
     detail::VtuCells cells = detail::read_vtu_cells(path, /*VTK_TETRA*/ 10, 4);
     if (cells.cells.rows() == 0) throw MeshError(path, "no tetrahedra");
     TetMesh m{cells.V * unit_scale, cells.cells};
-    orient_and_check_tets(path, m);
+    orient_and_check_tets(path, m, flat);
     return m;
   }
   throw MeshError(path, "unknown volume format '" + ext + "' (expected .msh, .ele/.node or .vtu)");

@@ -149,6 +149,21 @@ TEST(HybridBuilder, SameInputSameFilesByteForByte) {
     EXPECT_EQ(read_file(root / ("a/" + f)), read_file(root / ("b/" + f))) << f;
 }
 
+TEST(TetgenDriver, DelaunayOfCoplanarHullPointsDropsSlivers) {
+  // The 8 corners of a unit cube and its 6 face centres: coplanar groups of hull
+  // points, for which a Delaunay mesh may contain zero-volume tets.
+  Points P(14, 3);
+  int i = 0;
+  for (int x : {0, 1})
+    for (int y : {0, 1})
+      for (int z : {0, 1}) P.row(i++) << x, y, z;
+  P.bottomRows(6) << 0.5, 0.5, 0, 0.5, 0.5, 1, 0.5, 0, 0.5, 0.5, 1, 0.5, 0, 0.5, 0.5, 1, 0.5, 0.5;
+  const TetMesh m = tetrahedralize_points(P, "points");
+  EXPECT_NEAR(total_volume(m), 1.0, 1e-12);
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+    EXPECT_GT(tet_volume(m.V.row(m.T(t, 0)), m.V.row(m.T(t, 1)), m.V.row(m.T(t, 2)), m.V.row(m.T(t, 3))), 1e-12);
+}
+
 TEST(TetgenDriver, MissingProgramIsAClearError) {
   setenv("TISSUEBENCH_TETGEN", "/nonexistent/tetgen", 1);
   try {
