@@ -207,15 +207,21 @@ HybridMesh build_mesh_cached(const MeshRecipe& recipe, MeshReport& report, const
     }
   }
   HybridMesh h = build_mesh(recipe, report);
-  // Written into a staging folder and renamed, so a half-written entry is never read.
+  // Written into a staging folder and renamed, so a half-written entry is never
+  // read. Best effort: a cache that cannot be written (read-only, full) only
+  // costs the next run a rebuild.
   const fs::path staging = entry.string() + ".tmp" + std::to_string(::getpid());
   std::error_code ec;
-  fs::remove_all(staging, ec);
-  write_mesh_folder(staging.string(), h, report);
-  write_file_atomically((staging / "complete").string(), std::string(kCacheFormat) + "\n");
-  fs::remove_all(entry, ec);
-  fs::rename(staging, entry, ec);
-  if (ec) fs::remove_all(staging, ec);  // another process won the race: its entry is as good
+  try {
+    fs::remove_all(staging, ec);
+    write_mesh_folder(staging.string(), h, report);
+    write_file_atomically((staging / "complete").string(), std::string(kCacheFormat) + "\n");
+    fs::remove_all(entry, ec);
+    fs::rename(staging, entry, ec);
+  } catch (const std::exception&) {
+    ec = std::make_error_code(std::errc::io_error);
+  }
+  if (ec) fs::remove_all(staging, ec);  // failed, or another process won the race
   return h;
 }
 

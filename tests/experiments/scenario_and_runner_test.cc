@@ -189,6 +189,12 @@ TEST_F(Scenarios, MeshCacheReturnsTheBuiltMeshExactly) {
     EXPECT_EQ(built.control_points[k].surface_vertex, read.control_points[k].surface_vertex);
     EXPECT_EQ(built.control_points[k].weights, read.control_points[k].weights);
   }
+  // An unusable cache folder (a file stands there) costs a rebuild, not the run.
+  std::ofstream(dir / "not-a-folder") << "x";
+  bool hit3 = true;
+  MeshReport r3;
+  EXPECT_NO_THROW(build_mesh_cached(e.scenarios[0].mesh, r3, (dir / "not-a-folder").string(), hit3));
+  EXPECT_FALSE(hit3);
   // A different recipe is a different entry.
   MeshRecipe other = e.scenarios[0].mesh;
   other.build.target_coarse_nodes += 1;
