@@ -1,12 +1,12 @@
 #include "elastic_solver.h"
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/IterativeLinearSolvers>
 #include <sstream>
 #include <stdexcept>
 
 #include "point_location.h"
+#include "preconditioned_cg.h"
 #include "stiffness_assembly.h"
+#include "supernodal_cholesky.h"
 
 extern "C" void openblas_set_num_threads(int);  // libopenblas, linked explicitly
 extern "C" void omp_set_num_threads(int);       // libgomp, via CHOLMOD
@@ -20,12 +20,8 @@ void use_one_thread_for_blas() {
 
 struct ElasticSolver::Factorisation {
   Eigen::SparseMatrix<double> K_free;
-  // CHOLMOD supernodal Cholesky (with OpenBLAS), factorised once.
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
-  // CG on the free dofs, incomplete-Cholesky preconditioned, warm-started.
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
-      cg;
+  std::unique_ptr<SupernodalCholesky> cholesky;  // direct: factorised once
+  std::unique_ptr<IncompleteCholeskyCG> cg;      // iterative: warm-started each frame
 };
 
 ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
@@ -55,16 +51,10 @@ ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, cons
   const auto n = static_cast<Eigen::Index>(free_to_full_.size());
   fact_->K_free.resize(n, n);
   fact_->K_free.setFromTriplets(t.begin(), t.end());
-  if (mode_ == SolveMode::Direct) {
-    fact_->cholesky.compute(fact_->K_free);
-    if (fact_->cholesky.info() != Eigen::Success)
-      throw std::runtime_error("stiffness matrix is not positive definite (CHOLMOD factorisation failed)");
-  } else {
-    fact_->cg.setTolerance(cg_relative_tolerance);
-    fact_->cg.setMaxIterations(10 * static_cast<int>(n));
-    fact_->cg.compute(fact_->K_free);
-    if (fact_->cg.info() != Eigen::Success) throw std::runtime_error("incomplete Cholesky preconditioner failed");
-  }
+  if (mode_ == SolveMode::Direct)
+    fact_->cholesky = std::make_unique<SupernodalCholesky>(fact_->K_free);
+  else
+    fact_->cg = std::make_unique<IncompleteCholeskyCG>(fact_->K_free, cg_relative_tolerance, 10 * static_cast<int>(n));
   f_free_ = Eigen::VectorXd::Zero(n);
   u_free_ = Eigen::VectorXd::Zero(n);
 }
@@ -94,13 +84,11 @@ void ElasticSolver::solve(const LoadStencil& stencil, const Eigen::Vector3d& for
     }
   if (u.size() != 3 * mesh_.V.rows()) u = Eigen::VectorXd::Zero(3 * mesh_.V.rows());
   if (mode_ == SolveMode::Direct) {
-    u_free_ = fact_->cholesky.solve(f_free_);
+    fact_->cholesky->solve(f_free_, u_free_);
     last_iterations_ = 0;
   } else {
     for (size_t i = 0; i < free_to_full_.size(); ++i) u_free_(static_cast<Eigen::Index>(i)) = u(free_to_full_[i]);
-    u_free_ = fact_->cg.solveWithGuess(f_free_, u_free_);
-    last_iterations_ = static_cast<int>(fact_->cg.iterations());
-    if (fact_->cg.info() != Eigen::Success) throw std::runtime_error("CG did not converge");
+    last_iterations_ = fact_->cg->solve(f_free_, u_free_);
   }
   for (size_t i = 0; i < free_to_full_.size(); ++i) u(free_to_full_[i]) = u_free_(static_cast<Eigen::Index>(i));
 }

@@ -1,0 +1,49 @@
+// Issues 4 and 5: a frame (FEM solve, PBD or hybrid step) does not touch the heap
+// once the model is set up, so a simulator's frame time has no allocator in it.
+// Counted by replacing malloc and friends (tests/allocation_counter.cc).
+#include <gtest/gtest.h>
+
+#include <ostream>
+
+#include "allocation_counter.h"
+#include "model.h"
+#include "test_support.h"
+
+namespace tb {
+namespace {
+
+struct Case {
+  std::string model;
+  nlohmann::json parameters;
+};
+void PrintTo(const Case& c, std::ostream* os) { *os << c.model << " " << c.parameters.dump(); }
+
+class AllocationFreeFrame : public ::testing::TestWithParam<Case> {};
+
+TEST_P(AllocationFreeFrame, StepAllocatesNothingAfterTheFirstFrame) {
+  const ModelInfo& info = find_model(GetParam().model);
+  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, SupportBox{{-1, -1, -1e-9}, {1, 1, 1e-9}},
+            resolve_parameters(info.parameters, GetParam().parameters, GetParam().model)};
+  auto model = info.create();
+  model->setup(p);
+  const PointLoad first{{0, 0, 0.1}, {0, 0, 0.02}};
+  model->step(first);  // the first frame may size work arrays (load stencil, warm start)
+  // The counter itself is checked: building a vector does allocate.
+  ASSERT_GT(testing::allocations_during([] { std::vector<double> v(100); }), 0);
+  const long count = testing::allocations_during([&] {
+    for (int f = 2; f <= 20; ++f) model->step({first.point, {0.0, 0.0, 0.02 * f}});  // a ramp, as the runner does
+  });
+  EXPECT_EQ(count, 0) << GetParam().model << " " << GetParam().parameters.dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame,
+                         ::testing::Values(Case{"fem", {{"solver", "direct"}}}, Case{"fem", {{"solver", "iterative"}}},
+                                           Case{"pbd", {}}, Case{"hybrid", {}}),
+                         [](const ::testing::TestParamInfo<Case>& i) {
+                           return i.param.model + (i.param.parameters.contains("solver")
+                                                       ? "_" + i.param.parameters["solver"].get<std::string>()
+                                                       : std::string());
+                         });
+
+}  // namespace
+}  // namespace tb
