@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   app.add_subcommand("models", "List the registered models and their parameters");
 
   CLI11_PARSE(app, argc, argv);
-  tb::use_one_thread_for_blas();  // every reported time is single-threaded
+  tb::use_one_thread();  // every reported time is single-threaded
   try {
     if (app.got_subcommand("models")) return command_models();
     if (run->parsed()) {

@@ -164,7 +164,7 @@ BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)-
 }  // namespace tb
 
 int main(int argc, char** argv) {
-  tb::use_one_thread_for_blas();  // single-threaded figures, as the runner's
+  tb::use_one_thread();  // single-threaded figures, as the runner's
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

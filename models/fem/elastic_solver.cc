@@ -10,12 +10,17 @@
 
 extern "C" void openblas_set_num_threads(int);  // libopenblas, linked explicitly
 extern "C" void omp_set_num_threads(int);       // libgomp, via CHOLMOD
+extern "C" void omp_set_max_active_levels(int);
 
 namespace tb {
 
-void use_one_thread_for_blas() {
+void use_one_thread() {
   openblas_set_num_threads(1);
   omp_set_num_threads(1);
+  // CHOLMOD's supernodal factorisation asks for num_threads(4) explicitly, which
+  // omp_set_num_threads does not cap; no active parallel level does.
+  omp_set_max_active_levels(0);
+  limit_assembly_threads(1);
 }
 
 struct ElasticSolver::Factorisation {

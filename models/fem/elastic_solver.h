@@ -16,9 +16,10 @@ namespace tb {
 
 enum class SolveMode { Direct, Iterative };
 
-/// Limits OpenBLAS (under CHOLMOD) and OpenMP to one thread, so that every timing
-/// the project reports is single-threaded. Call once at program start.
-void use_one_thread_for_blas();
+/// Limits OpenBLAS (under CHOLMOD), OpenMP and deal.II's task pool (TBB, used when
+/// a Triangulation is built) to one thread, so that every timing the project
+/// reports is single-threaded. Call once at program start.
+void use_one_thread();
 
 /// The four nodes and barycentric weights over which a point force is spread
 /// (eq. 10 for a point force: f^e = N^e(x)^T F).

@@ -1,5 +1,6 @@
 #include "stiffness_assembly.h"
 
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
@@ -69,6 +70,8 @@ class BlockPattern {
 };
 
 }  // namespace
+
+void limit_assembly_threads(unsigned threads) { dealii::MultithreadInfo::set_thread_limit(threads); }
 
 Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
   using namespace dealii;

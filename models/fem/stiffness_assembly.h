@@ -15,4 +15,7 @@ namespace tb {
 ///   returns 3 #V by 3 #V symmetric matrix; dof 3 * node + component
 Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double youngs_modulus, double poisson_ratio);
 
+/// Caps the threads deal.II may use (its MultithreadInfo thread limit).
+void limit_assembly_threads(unsigned threads);
+
 }  // namespace tb
