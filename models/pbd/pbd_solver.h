@@ -66,7 +66,7 @@ class Solver {
  private:
   void project_all(bool reverse);
   struct StretchItem {
-    int a, b;
+    int q[2];
     double rest;
   };
   struct BendItem {
