@@ -26,11 +26,40 @@ void use_one_thread() {
 struct ElasticSolver::Factorisation {
   Eigen::SparseMatrix<double> K_free;
   std::unique_ptr<SupernodalCholesky> cholesky;  // direct: factorised once
-  std::unique_ptr<IncompleteCholeskyCG> cg;      // iterative: warm-started each frame
+  std::unique_ptr<PreconditionedCG> cg;          // iterative: warm-started each frame
 };
 
+namespace {
+/// P: free dofs by coarse dofs, u_fine = P u_coarse by the P1 (barycentric)
+/// interpolation of the coarse tet containing each fine node (the nearest tet,
+/// extrapolated, for a node outside the coarse mesh). Coarse dofs that reach no
+/// free dof are left out, so that P^T K P is nonsingular.
+Eigen::SparseMatrix<double> coarse_prolongation(const TetMesh& fine, const TetMesh& coarse,
+                                                const std::vector<int>& full_to_free, int free_dofs) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index v = 0; v < fine.V.rows(); ++v) {
+    const TetEmbedding e = locate_point(coarse, fine.V.row(v).transpose());
+    for (int c = 0; c < 3; ++c) {
+      const int row = full_to_free[static_cast<size_t>(3 * v + c)];
+      if (row < 0) continue;
+      for (int k = 0; k < 4; ++k)
+        if (e.weights(k) != 0) t.emplace_back(row, 3 * coarse.T(e.tet, k) + c, e.weights(k));
+    }
+  }
+  Eigen::SparseMatrix<double> P(free_dofs, 3 * coarse.V.rows());
+  P.setFromTriplets(t.begin(), t.end());
+  std::vector<int> used_columns;
+  for (Eigen::Index c = 0; c < P.cols(); ++c)
+    if (P.col(c).nonZeros() > 0) used_columns.push_back(static_cast<int>(c));
+  Eigen::SparseMatrix<double> Pu(P.rows(), static_cast<Eigen::Index>(used_columns.size()));
+  for (size_t j = 0; j < used_columns.size(); ++j) Pu.col(static_cast<Eigen::Index>(j)) = P.col(used_columns[j]);
+  Pu.makeCompressed();
+  return Pu;
+}
+}  // namespace
+
 ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
-                             SolveMode mode, double cg_relative_tolerance)
+                             SolveMode mode, double cg_relative_tolerance, const TetMesh* coarse_space)
     : mesh_(mesh), mode_(mode), fact_(std::make_unique<Factorisation>()) {
   if (clamped.size() != static_cast<size_t>(mesh.V.rows()))
     throw std::invalid_argument("clamped flags: one per node expected");
@@ -58,8 +87,11 @@ ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, cons
   fact_->K_free.setFromTriplets(t.begin(), t.end());
   if (mode_ == SolveMode::Direct)
     fact_->cholesky = std::make_unique<SupernodalCholesky>(fact_->K_free);
-  else
-    fact_->cg = std::make_unique<IncompleteCholeskyCG>(fact_->K_free, cg_relative_tolerance, 10 * static_cast<int>(n));
+  else if (coarse_space) {
+    const Eigen::SparseMatrix<double> P = coarse_prolongation(mesh, *coarse_space, full_to_free_, static_cast<int>(n));
+    fact_->cg = std::make_unique<PreconditionedCG>(fact_->K_free, cg_relative_tolerance, 10 * static_cast<int>(n), &P);
+  } else
+    fact_->cg = std::make_unique<PreconditionedCG>(fact_->K_free, cg_relative_tolerance, 10 * static_cast<int>(n));
   f_free_ = Eigen::VectorXd::Zero(n);
   u_free_ = Eigen::VectorXd::Zero(n);
 }

@@ -34,8 +34,11 @@ class ElasticSolver {
   /// preconditioner (iterative).
   ///   clamped  #V flags, 1 = zero displacement
   /// Throws std::invalid_argument if nothing is clamped (K is singular).
+  ///   coarse_space  iterative mode only: a coarser tet mesh of the same body whose
+  ///                 P1 interpolation is the coarse space of a two-level
+  ///                 preconditioner (nullptr: incomplete Cholesky alone)
   ElasticSolver(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped, SolveMode mode,
-                double cg_relative_tolerance = 1e-8);
+                double cg_relative_tolerance = 1e-8, const TetMesh* coarse_space = nullptr);
   ~ElasticSolver();
   ElasticSolver(const ElasticSolver&) = delete;
   ElasticSolver& operator=(const ElasticSolver&) = delete;

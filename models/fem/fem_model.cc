@@ -13,8 +13,13 @@ class FemModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.fine_volume.T.rows() == 0) throw std::invalid_argument("fem: the scenario provides no fine volume mesh");
     const SolveMode mode = p.parameters.choice("solver") == "direct" ? SolveMode::Direct : SolveMode::Iterative;
+    const bool two_level = mode == SolveMode::Iterative && p.parameters.choice("preconditioner") == "two_level";
+    if (two_level && h.coarse_volume.T.rows() == 0)
+      throw std::invalid_argument(
+          "fem: preconditioner two_level needs the scenario's coarse volume mesh; use preconditioner ic");
     solver_ = std::make_unique<ElasticSolver>(h.fine_volume, p.material, p.support.select(h.fine_volume.V), mode,
-                                              p.parameters.number("cg_tolerance"));
+                                              p.parameters.number("cg_tolerance"),
+                                              two_level ? &h.coarse_volume : nullptr);
     surface_to_volume_ = h.fine_surface_to_volume;
     u_ = Eigen::VectorXd::Zero(3 * h.fine_volume.V.rows());
     surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
@@ -56,9 +61,17 @@ ModelInfo fem_model_info() {
             0,
             0,
             "direct: CHOLMOD factorisation in setup, back-substitution per frame; "
-            "iterative: IC-preconditioned CG from the previous frame's solution",
+            "iterative: preconditioned CG from the previous frame's solution",
             {"direct", "iterative"},
             "direct"},
+           {"preconditioner",
+            0,
+            0,
+            0,
+            "of the iterative solver. two_level: incomplete Cholesky plus a coarse correction on the scenario's "
+            "coarse (hybrid) tet mesh; ic: incomplete Cholesky alone",
+            {"two_level", "ic"},
+            "two_level"},
            {"cg_tolerance", 1e-8, 1e-14, 1e-2, "relative residual tolerance of the iterative solver"}},
           [] { return std::make_unique<FemModel>(); }};
 }

@@ -220,15 +220,28 @@ TEST_F(CubeFem, ReactionsBalanceTheLoadAndSolutionIsSymmetric) {
 
 TEST_F(CubeFem, PushIsMinusPullAndSolversAgree) {
   ElasticSolver direct(mesh().fine_volume, Material{}, bottom(), SolveMode::Direct);
-  ElasticSolver iterative(mesh().fine_volume, Material{}, bottom(), SolveMode::Iterative, 1e-10);
   const LoadStencil s = direct.locate_load({0, 0, 0.1});
-  Eigen::VectorXd pull, push, it;
+  Eigen::VectorXd pull, push;
   direct.solve(s, {0, 0, 1}, pull);
   direct.solve(s, {0, 0, -1}, push);
-  iterative.solve(s, {0, 0, 1}, it);
   EXPECT_LT((pull + push).norm(), 1e-12 * pull.norm());
-  EXPECT_LT((it - pull).norm(), 1e-6 * pull.norm());
-  EXPECT_GT(iterative.last_iterations(), 0);
+  // Both preconditioners of the iterative mode, at the paper's tolerance 1e-8,
+  // from a cold start: within 1e-6 of the direct solution.
+  int iterations[2] = {0, 0};
+  for (int two_level = 0; two_level < 2; ++two_level) {
+    ElasticSolver iterative(mesh().fine_volume, Material{}, bottom(), SolveMode::Iterative, 1e-8,
+                            two_level ? &mesh().coarse_volume : nullptr);
+    Eigen::VectorXd it;
+    iterative.solve(s, {0, 0, 1}, it);
+    EXPECT_LT((it - pull).norm(), 1e-6 * pull.norm()) << (two_level ? "two-level" : "IC");
+    iterations[two_level] = iterative.last_iterations();
+  }
+  // The coarse correction is what makes the iterative mode fast: from this cold
+  // start, measured 202 iterations with IC alone and 45 with it.
+  EXPECT_GT(iterations[0], 0);
+  EXPECT_LT(2 * iterations[1], iterations[0]) << "IC " << iterations[0] << ", two-level " << iterations[1];
+  RecordProperty("cg_iterations_ic", iterations[0]);
+  RecordProperty("cg_iterations_two_level", iterations[1]);
 }
 
 TEST_F(CubeFem, LoadOutsideTheMeshIsAnErrorNamingThePoint) {
