@@ -26,6 +26,9 @@ void use_one_thread() {
 struct ElasticSolver::Factorisation {
   Eigen::SparseMatrix<double> K_free;
   std::unique_ptr<SupernodalCholesky> cholesky;  // direct: factorised once
+  SupernodalCholesky::SparseRhs rhs;             // the free dofs of the last load tet ...
+  Eigen::Vector4i rhs_nodes;                     // ... whose nodes these are
+  bool has_rhs = false;
   std::unique_ptr<PreconditionedCG> cg;          // iterative: warm-started each frame
 };
 
@@ -121,7 +124,18 @@ void ElasticSolver::solve(const LoadStencil& stencil, const Eigen::Vector3d& for
     }
   if (u.size() != 3 * mesh_.V.rows()) u = Eigen::VectorXd::Zero(3 * mesh_.V.rows());
   if (mode_ == SolveMode::Direct) {
-    fact_->cholesky->solve(f_free_, u_free_);
+    if (fact_->rhs_nodes != stencil.nodes || !fact_->has_rhs) {  // a new load tet: its forward-solve path
+      std::vector<int> rows;
+      for (int k = 0; k < 4; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const int free = full_to_free_[static_cast<size_t>(3 * stencil.nodes(k) + c)];
+          if (free >= 0) rows.push_back(free);
+        }
+      fact_->rhs = fact_->cholesky->sparse_rhs(rows);
+      fact_->rhs_nodes = stencil.nodes;
+      fact_->has_rhs = true;
+    }
+    fact_->cholesky->solve(f_free_, fact_->rhs, u_free_);
     last_iterations_ = 0;
   } else {
     for (size_t i = 0; i < free_to_full_.size(); ++i) u_free_(static_cast<Eigen::Index>(i)) = u(free_to_full_[i]);
