@@ -76,10 +76,13 @@ std::unique_ptr<ElasticSolver> fine_solver(const HybridMesh& h, int64_t solver) 
 
 void BM_FemSetup(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
+  double factor_nonzeros = 0;
   for (auto _ : state) {
     auto solver = fine_solver(h, state.range(1));
+    factor_nonzeros = solver->factor_nonzeros();
     benchmark::DoNotOptimize(solver.get());
   }
+  if (factor_nonzeros > 0) state.counters["factor_MiB"] = factor_nonzeros * 8 / (1024.0 * 1024.0);
   state.counters["dofs"] = static_cast<double>(3 * h.fine_volume.V.rows());
   state.counters["tets"] = static_cast<double>(h.fine_volume.T.rows());
 }

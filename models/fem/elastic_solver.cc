@@ -101,6 +101,8 @@ ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& material, cons
 
 ElasticSolver::~ElasticSolver() = default;
 
+double ElasticSolver::factor_nonzeros() const { return fact_->cholesky ? fact_->cholesky->factor_nonzeros() : 0; }
+
 LoadStencil ElasticSolver::locate_load(const Eigen::Vector3d& point) const {
   const TetEmbedding e = locate_point(mesh_, point, 1e-6);
   if (e.tet < 0 || e.distance > 0) {

@@ -54,6 +54,9 @@ class ElasticSolver {
   /// The full (unconstrained) 3 #V by 3 #V stiffness matrix, e.g. for reactions.
   const Eigen::SparseMatrix<double>& full_stiffness() const { return K_full_; }
   int last_iterations() const { return last_iterations_; }
+  /// Nonzeros of the Cholesky factor (direct mode; 0 otherwise): its memory is
+  /// 8 bytes each plus indices, the bulk of the solver's.
+  double factor_nonzeros() const;
   int free_dofs() const { return static_cast<int>(free_to_full_.size()); }
   const TetMesh& mesh() const { return mesh_; }
 
