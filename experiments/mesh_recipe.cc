@@ -13,6 +13,7 @@
 #include "mesh_checks.h"
 #include "mesh_error.h"
 #include "mesh_io.h"
+#include "mirror_symmetric_volume.h"
 #include "self_intersections.h"
 #include "strict_json.h"
 #include "tetgen_driver.h"
@@ -36,6 +37,7 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
     r.cube.nx = o.integer("nx", 10, 1, 1000);
     r.cube.ny = o.integer("ny", 10, 1, 1000);
     r.cube.nz = o.integer("nz", 12, 1, 1000);
+    r.symmetric_fine_volume = o.boolean("symmetric_fine_volume", false);
   } else {
     r.kind = MeshRecipe::Kind::Files;
     r.surface_file = path(o.text("surface", std::nullopt));
@@ -65,7 +67,12 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
   if (r.kind == MeshRecipe::Kind::Cube) {
     SurfaceMesh s = make_cube_surface(r.cube);
     report.flipped_triangles = check_and_orient_surface("cube", s).flipped_triangles;
-    return build_hybrid_from_surface(s, r.build, "cube");
+    HybridBuildOptions build = r.build;
+    if (r.symmetric_fine_volume)
+      build.fine_volume_builder = [&r](const SurfaceMesh& surface) {
+        return tetrahedralize_symmetric_cube(surface, r.cube, r.build.fine_tetgen, "cube");
+      };
+    return build_hybrid_from_surface(s, build, "cube");
   }
   SurfaceMesh s = read_surface(r.surface_file, r.unit_scale);
   report.flipped_triangles = check_and_orient_surface(r.surface_file, s).flipped_triangles;
@@ -181,10 +188,10 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
 std::string mesh_content_hash(const MeshRecipe& r) {
   std::ostringstream key;
   key << std::setprecision(17) << kCacheFormat << '|' << static_cast<int>(r.kind) << '|' << r.cube.side << ','
-      << r.cube.height << ',' << r.cube.nx << ',' << r.cube.ny << ',' << r.cube.nz << '|' << r.unit_scale << '|'
-      << r.repair_self_intersections << '|' << static_cast<int>(r.control_points) << '|' << r.build_fine_volume << '|'
-      << r.build.fine_tetgen.radius_edge_ratio << ',' << r.build.fine_tetgen.max_volume << '|'
-      << r.build.target_coarse_nodes << ',' << r.build.coarse_spacing << ',' << r.build.feature_angle_deg << '|';
+      << r.cube.height << ',' << r.cube.nx << ',' << r.cube.ny << ',' << r.cube.nz << ',' << r.symmetric_fine_volume
+      << '|' << r.unit_scale << '|' << r.repair_self_intersections << '|' << static_cast<int>(r.control_points) << '|'
+      << r.build_fine_volume << '|' << r.build.fine_tetgen.radius_edge_ratio << ',' << r.build.fine_tetgen.max_volume
+      << '|' << r.build.target_coarse_nodes << ',' << r.build.coarse_spacing << ',' << r.build.feature_angle_deg << '|';
   uint64_t h = fnv1a(key.str());
   for (const std::string& f : {r.surface_file, r.coarse_file})
     if (!f.empty()) h = fnv1a(read_file(f), fnv1a("|file|", h));  // contents, not names

@@ -14,6 +14,10 @@ namespace tb {
 struct MeshRecipe {
   enum class Kind { Cube, Files } kind = Kind::Cube;
   CubeSpec cube;
+  /// Cube: a mirror-symmetric fine volume (meshing/mirror_symmetric_volume.h).
+  /// Off by default: it also changes the hybrid's coarse selection (made from the
+  /// fine volume's vertices), and the paper scenarios keep the mesh they measure.
+  bool symmetric_fine_volume = false;
   std::string surface_file;  ///< Files: the fine surface
   std::string coarse_file;   ///< Files: optional given coarse volume
   double unit_scale = 1.0;   ///< Files: multiply coordinates (0.01 for cm)

@@ -63,7 +63,8 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
                                      const std::string& source) {
   HybridMesh h;
   h.fine_surface = surface;
-  h.fine_volume = tetrahedralize_surface(surface, o.fine_tetgen, source);
+  h.fine_volume =
+      o.fine_volume_builder ? o.fine_volume_builder(surface) : tetrahedralize_surface(surface, o.fine_tetgen, source);
   h.fine_surface_to_volume = surface_to_volume_identity(surface);
   const int n_surface = static_cast<int>(surface.V.rows());
 

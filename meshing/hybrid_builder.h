@@ -1,6 +1,7 @@
 // Building the hybrid mesh of paper section 1.2 (figure 1).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "mesh_types.h"
@@ -13,6 +14,9 @@ struct HybridBuildOptions {
   int target_coarse_nodes = 150;  ///< coarse node count to aim for (paper: 153)
   double coarse_spacing = 0;      ///< if > 0, used instead of target_coarse_nodes
   double feature_angle_deg = 30;  ///< creases and corners are selected first
+  /// If set, builds the fine volume from the surface (surface vertices first, in
+  /// order) instead of tetrahedralize_surface with fine_tetgen.
+  std::function<TetMesh(const SurfaceMesh&)> fine_volume_builder;
 };
 
 /// Paper 1.2: fine surface -> fine base tet mesh (TetGen) -> coverage selection of

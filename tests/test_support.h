@@ -28,12 +28,15 @@ struct TempFolder {
 };
 
 /// The hybrid mesh of a committed scenario (experiments/scenarios/<name>.json),
-/// built once per process. `with_fine_volume` false skips the fine TetGen mesh.
-const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume = true);
+/// built once per process. `with_fine_volume` false skips the fine TetGen mesh;
+/// `symmetric_fine_volume` asks for the mirror-symmetric fine volume (cube only).
+const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume = true,
+                                bool symmetric_fine_volume = false);
 
-/// Largest |values(v) - values(mirror(v))| over vertices, where mirror(v) is the
-/// vertex nearest v reflected across the plane x_axis = 0.
+/// Largest |values(v) - parity values(mirror(v))| over vertices, where mirror(v)
+/// is the vertex nearest v reflected across the plane x_axis = 0 (parity -1 for
+/// the reflected component of a vector field).
 ///   V       #V by 3 positions, values  #V
-double mirror_asymmetry(const Points& V, const Eigen::VectorXd& values, int axis);
+double mirror_asymmetry(const Points& V, const Eigen::VectorXd& values, int axis, double parity = 1);
 
 }  // namespace tb::testing

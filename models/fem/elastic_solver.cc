@@ -29,7 +29,7 @@ struct ElasticSolver::Factorisation {
   SupernodalCholesky::SparseRhs rhs;             // the free dofs of the last load tet ...
   Eigen::Vector4i rhs_nodes;                     // ... whose nodes these are
   bool has_rhs = false;
-  std::unique_ptr<PreconditionedCG> cg;          // iterative: warm-started each frame
+  std::unique_ptr<PreconditionedCG> cg;  // iterative: warm-started each frame
 };
 
 namespace {

@@ -17,9 +17,9 @@ class FemModel : public Model {
     if (two_level && h.coarse_volume.T.rows() == 0)
       throw std::invalid_argument(
           "fem: preconditioner two_level needs the scenario's coarse volume mesh; use preconditioner ic");
-    solver_ = std::make_unique<ElasticSolver>(h.fine_volume, p.material, p.support.select(h.fine_volume.V), mode,
-                                              p.parameters.number("cg_tolerance"),
-                                              two_level ? &h.coarse_volume : nullptr);
+    solver_ =
+        std::make_unique<ElasticSolver>(h.fine_volume, p.material, p.support.select(h.fine_volume.V), mode,
+                                        p.parameters.number("cg_tolerance"), two_level ? &h.coarse_volume : nullptr);
     surface_to_volume_ = h.fine_surface_to_volume;
     u_ = Eigen::VectorXd::Zero(3 * h.fine_volume.V.rows());
     surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);

@@ -3,8 +3,8 @@
 // additive preconditioner: IC plus a Galerkin coarse-space correction
 // P (P^T K P)^-1 P^T, where P interpolates a coarse mesh's nodal displacements to
 // the fine dofs (the hybrid's coarse tets; issue 4's "better preconditioner than
-// IC": 33 CG iterations instead of 176 on the paper's cube). Written out rather than with Eigen's ConjugateGradient so that a solve
-// touches no heap: every work vector is allocated in the constructor.
+// IC": 33 CG iterations instead of 176 on the paper's cube). Written out rather than with Eigen's ConjugateGradient so
+// that a solve touches no heap: every work vector is allocated in the constructor.
 #pragma once
 
 #include <Eigen/IterativeLinearSolvers>
@@ -37,8 +37,8 @@ class PreconditionedCG {
 
   const Eigen::SparseMatrix<double>& K_;
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> ic_;
-  Eigen::SparseMatrix<double> P_, Pt_;              ///< prolongation and restriction (empty: none)
-  std::unique_ptr<SupernodalCholesky> coarse_;      ///< of P^T K P
+  Eigen::SparseMatrix<double> P_, Pt_;          ///< prolongation and restriction (empty: none)
+  std::unique_ptr<SupernodalCholesky> coarse_;  ///< of P^T K P
   double tolerance_;
   int max_iterations_;
   Eigen::VectorXd r_, z_, p_, q_, t_, rc_, uc_;  ///< work vectors

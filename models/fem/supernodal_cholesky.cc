@@ -64,7 +64,8 @@ SupernodalCholesky::SupernodalCholesky(const Eigen::SparseMatrix<double>& matrix
   for (int s = 0; s < ns; ++s) {
     const int cols = super[s + 1] - super[s];
     // The parent is the supernode of the first row below the diagonal block.
-    if (pi[s + 1] - pi[s] > cols) parent_[static_cast<size_t>(s)] = column_supernode_[static_cast<size_t>(rows[pi[s] + cols])];
+    if (pi[s + 1] - pi[s] > cols)
+      parent_[static_cast<size_t>(s)] = column_supernode_[static_cast<size_t>(rows[pi[s] + cols])];
   }
   w_.resize(static_cast<size_t>(n));
   gathered_.resize(max_rows);
@@ -82,8 +83,8 @@ SupernodalCholesky::SparseRhs SupernodalCholesky::sparse_rhs(const std::vector<i
   std::vector<char> needed(parent_.size(), 0);
   for (int r : rows) {
     if (r < 0 || r >= n) throw std::invalid_argument("sparse_rhs: row out of range");
-    for (int s = column_supernode_[static_cast<size_t>(position[static_cast<size_t>(r)])]; s >= 0 && !needed[static_cast<size_t>(s)];
-         s = parent_[static_cast<size_t>(s)])
+    for (int s = column_supernode_[static_cast<size_t>(position[static_cast<size_t>(r)])];
+         s >= 0 && !needed[static_cast<size_t>(s)]; s = parent_[static_cast<size_t>(s)])
       needed[static_cast<size_t>(s)] = 1;
   }
   for (size_t s = 0; s < needed.size(); ++s)
@@ -116,8 +117,8 @@ void SupernodalCholesky::backward_substitution_and_unpermute(Eigen::VectorXd& x)
     if (below > 0) {
       const int* below_rows = c_->rows() + pi[s] + cols;
       for (int i = 0; i < below; ++i) gathered_[static_cast<size_t>(i)] = w_[static_cast<size_t>(below_rows[i])];
-      dgemv_("T", &below, &cols, &minus_one, block + cols, &nrows, gathered_.data(), &one, &plus_one,
-             w_.data() + first, &one);
+      dgemv_("T", &below, &cols, &minus_one, block + cols, &nrows, gathered_.data(), &one, &plus_one, w_.data() + first,
+             &one);
     }
     dtrsv_("L", "T", "N", &cols, block, &nrows, w_.data() + first, &one);
   }
@@ -152,14 +153,22 @@ double SupernodalCholesky::factor_nonzeros() const { return c_->common.lnz; }
 
 const char* SupernodalCholesky::ordering() const {
   switch (c_->L->ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "AMD";
-    case CHOLMOD_METIS: return "METIS";
-    case CHOLMOD_NESDIS: return "NESDIS";
-    case CHOLMOD_COLAMD: return "COLAMD";
-    case CHOLMOD_POSTORDERED: return "postordered";
-    default: return "unknown";
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "AMD";
+    case CHOLMOD_METIS:
+      return "METIS";
+    case CHOLMOD_NESDIS:
+      return "NESDIS";
+    case CHOLMOD_COLAMD:
+      return "COLAMD";
+    case CHOLMOD_POSTORDERED:
+      return "postordered";
+    default:
+      return "unknown";
   }
 }
 

@@ -17,8 +17,8 @@ double stretch_constraint(const Vec3& p1, const Vec3& p2, double rest_length);
 void stretch_gradient(const Vec3& p1, const Vec3& p2, Vec3& grad1, Vec3& grad2);
 /// Projection, eqs. (17)-(18), scaled by stiffness in [0, 1]. Returns false (and
 /// zero corrections) when both points are fixed or coincide.
-inline bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length,
-                            double stiffness, Vec3& corr1, Vec3& corr2);
+inline bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length, double stiffness,
+                            Vec3& corr1, Vec3& corr2);
 
 /// Bending constraint across the edge (p1, p2) shared by two triangles with the
 /// wing vertices p3 and p4, eq. (19) as intended: C = arccos(n1 . n2) - rest_angle,
@@ -86,7 +86,8 @@ constexpr double kTiny = 1e-30;
 /// triangles become coplanar (the 1/sqrt(1 - d^2) of eqs. 22-24 is 0/0 there).
 /// Signs checked against finite differences in tests/models/pbd/constraints_test.cc.
 /// Returns false (theta = 0, grad untouched) for a degenerate configuration.
-TB_PBD_INLINE bool signed_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double& theta, Vec3* grad) {
+TB_PBD_INLINE bool signed_angle(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double& theta,
+                                Vec3* grad) {
   theta = 0;
   const Vec3 e = p2 - p1;
   const double elen = e.norm();
@@ -124,9 +125,9 @@ TB_PBD_INLINE bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, do
   return true;
 }
 
-TB_PBD_INLINE bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3,
-                                   double w3, const Vec3& p4, double w4, double rest_angle, double stiffness,
-                                   Vec3 corr[4], BendingAngle kind) {
+TB_PBD_INLINE bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3,
+                                   const Vec3& p4, double w4, double rest_angle, double stiffness, Vec3 corr[4],
+                                   BendingAngle kind) {
   double theta = 0;
   if (!detail::signed_angle(p1, p2, p3, p4, theta, corr)) {  // corr holds the gradient of theta
     for (int k = 0; k < 4; ++k) corr[k].setZero();

@@ -14,6 +14,7 @@
 #include "mesh_error.h"
 #include "mesh_io.h"
 #include "mesh_recipe.h"
+#include "mirror_symmetric_volume.h"
 #include "point_location.h"
 #include "scenario.h"
 #include "test_support.h"
@@ -88,6 +89,41 @@ TEST(HybridBuilder, CubeMatchesThePaperScale) {
     bottom += p.z() == 0.0;
   }
   EXPECT_GT(bottom, 10) << "the clamped bottom face needs control points";
+}
+
+TEST(SymmetricCubeVolume, EveryTetHasItsMirrorImagesAndTheSurfaceComesFirst) {
+  const HybridMesh& h = scenario_mesh("cube-pull", true, true);
+  const TetMesh& m = h.fine_volume;
+  // Tets as sets of lattice-rounded vertex positions, so a mirror image is found by value.
+  auto key = [&](int v, int sx, int sy) {
+    return std::array<long long, 3>{std::llround(sx * m.V(v, 0) * 1e12), std::llround(sy * m.V(v, 1) * 1e12),
+                                    std::llround(m.V(v, 2) * 1e12)};
+  };
+  auto tet_key = [&](Eigen::Index t, int sx, int sy) {
+    std::set<std::array<long long, 3>> k;
+    for (int j = 0; j < 4; ++j) k.insert(key(m.T(t, j), sx, sy));
+    return k;
+  };
+  std::set<std::set<std::array<long long, 3>>> tets;
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) tets.insert(tet_key(t, 1, 1));
+  ASSERT_EQ(tets.size(), static_cast<size_t>(m.T.rows()));
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    ASSERT_TRUE(tets.count(tet_key(t, -1, 1))) << "tet " << t << " has no mirror image about x = 0";
+    ASSERT_TRUE(tets.count(tet_key(t, 1, -1))) << "tet " << t << " has no mirror image about y = 0";
+  }
+  for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v) EXPECT_EQ(m.V.row(v), h.fine_surface.V.row(v));
+  EXPECT_NEAR(total_volume(m), 1e-3, 1e-15);
+  EXPECT_GT(min_dihedral_angle_deg(m), 5.0);
+}
+
+TEST(SymmetricCubeVolume, OddDivisionsAreAnError) {
+  const CubeSpec spec{0.1, 0.1, 9, 10, 12};
+  try {
+    tetrahedralize_symmetric_cube(make_cube_surface(spec), spec, TetgenOptions{}, "cube");
+    FAIL();
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("even nx and ny"), std::string::npos) << e.what();
+  }
 }
 
 TEST(HybridBuilder, NonConvexSolidHasNoCoarseTetOutside) {
