@@ -120,7 +120,7 @@ def make_tables(exp_dir, out_dir):
                  "push paper (ms)", "setup, pull (ms)"], rows,
                 f"Per-frame time of step(), median and p95 over every frame run. PBD and hybrid: {int(iters)} iterations. "
                 "fem-direct: back-substitution with a factorisation made in setup; fem-iterative: CG "
-                f"({preconditioner_text.get(preconditioner, preconditioner)} preconditioner, relative tolerance {tolerance}) "
+                f"(preconditioner: {preconditioner_text.get(preconditioner, preconditioner)}; relative tolerance {tolerance}) "
                 "warm-started from the previous frame (the load ramps, so every frame is a new solve). The paper's FEM is one "
                 "number; its solver is not stated. " + machine_note(exp) + f" Paper: {paper['machine']}.")
 
