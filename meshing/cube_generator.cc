@@ -6,6 +6,8 @@
 
 namespace tb {
 
+double centred_grid_coordinate(double side, int n, int i) { return side * (static_cast<double>(i) / n - 0.5); }
+
 SurfaceMesh make_cube_surface(const CubeSpec& s) {
   if (s.nx < 1 || s.ny < 1 || s.nz < 1) throw std::invalid_argument("cube divisions must be >= 1");
   if (!(s.side > 0) || !(s.height > 0)) throw std::invalid_argument("cube side and height must be positive");
@@ -50,8 +52,8 @@ SurfaceMesh make_cube_surface(const CubeSpec& s) {
   m.V.resize(static_cast<Eigen::Index>(lattice.size()), 3);
   for (size_t v = 0; v < lattice.size(); ++v) {
     const auto& l = lattice[v];
-    m.V.row(static_cast<Eigen::Index>(v)) << s.side * (static_cast<double>(l[0]) / s.nx - 0.5),
-        s.side * (static_cast<double>(l[1]) / s.ny - 0.5), s.height * static_cast<double>(l[2]) / s.nz;
+    m.V.row(static_cast<Eigen::Index>(v)) << centred_grid_coordinate(s.side, s.nx, l[0]),
+        centred_grid_coordinate(s.side, s.ny, l[1]), s.height * static_cast<double>(l[2]) / s.nz;
   }
   m.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
   for (size_t t = 0; t < tris.size(); ++t) m.F.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];

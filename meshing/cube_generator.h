@@ -16,4 +16,9 @@ struct CubeSpec {
 };
 SurfaceMesh make_cube_surface(const CubeSpec& spec);
 
+/// Coordinate of lattice line i of n across a centred side: side (i / n - 1/2).
+/// Exactly 0 at i = n / 2. Shared with meshing/mirror_symmetric_volume.cc, whose
+/// cut-plane points must coincide bitwise with the surface's.
+double centred_grid_coordinate(double side, int n, int i);
+
 }  // namespace tb

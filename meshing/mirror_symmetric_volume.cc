@@ -49,12 +49,11 @@ SurfaceMesh quarter_surface(const SurfaceMesh& surface, const CubeSpec& spec, co
     triangles.push_back(tri);
   }
   // Grids on x = 0 (lattice columns j along y) and y = 0 (columns i along x), with
-  // the generator's coordinate formula so that boundary points coincide.
-  auto coordinate = [](double side, int n, int i) { return side * (static_cast<double>(i) / n - 0.5); };
+  // the generator's coordinates so that boundary points coincide.
   for (int plane = 0; plane < 2; ++plane) {
     const int n = plane == 0 ? spec.ny : spec.nx;
     auto point = [&](int a, int k) {
-      const double along = coordinate(spec.side, n, n / 2 + a);
+      const double along = centred_grid_coordinate(spec.side, n, n / 2 + a);
       const double z = spec.height * static_cast<double>(k) / spec.nz;
       return vertices.add(plane == 0 ? Eigen::RowVector3d(0, along, z) : Eigen::RowVector3d(along, 0, z));
     };

@@ -97,5 +97,22 @@ TEST(Registry, UnknownModelAndParametersAreErrors) {
   EXPECT_EQ(resolve_parameters(pbd.parameters, {{"iterations", 5}}, "x").integer("iterations"), 5);
 }
 
+TEST(FemModel, TwoLevelPreconditionerWithoutACoarseMeshIsAnError) {
+  HybridMesh no_coarse = cube();
+  no_coarse.coarse_volume = TetMesh{};
+  const ModelInfo& fem = find_model("fem");
+  Problem p{&no_coarse, Material{}, SupportBox{{-1, -1, -1e-9}, {1, 1, 1e-9}},
+            resolve_parameters(fem.parameters, {{"solver", "iterative"}, {"preconditioner", "two_level"}}, "fem")};
+  auto m = fem.create();
+  try {
+    m->setup(p);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("two_level needs the scenario's coarse volume mesh"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(resolve_parameters(fem.parameters, {{"preconditioner", "amg"}}, "fem"), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tb
