@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "constraint_batches.h"
 #include "constraints.h"
 #include "mesh_types.h"
 #include "parameters.h"
@@ -62,22 +63,17 @@ class Solver {
   const Points& positions() const { return x_; }
   const Points& rest_positions() const { return rest_; }
   const ConstraintSet& constraints() const { return c_; }
+  /// The vector instructions the projection runs with (the results do not depend on it).
+  InstructionSet instruction_set() const { return isa_; }
+  /// Run the projection with `isa` instead of the best this CPU has.
+  void use_instruction_set(InstructionSet isa) { isa_ = isa; }
 
  private:
-  void project_all(bool reverse);
-  struct StretchItem {
-    int q[2];
-    double rest;
-  };
-  struct BendItem {
-    int q[4];
-    double rest;
-  };
   Points rest_, x_, p_, v_;
   Eigen::VectorXd w_;
   ConstraintSet c_;
-  std::vector<StretchItem> stretch_;
-  std::vector<BendItem> bending_;
+  ConstraintBatches batches_;  // c_ ordered and packed for the sweep
+  InstructionSet isa_;
   Settings s_;
   double k_stretch_, k_bend_;
 };

@@ -1,0 +1,180 @@
+#include "constraint_batches.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <stdexcept>
+
+#include "pbd_solver.h"
+#include "projection_kernels.h"
+
+namespace tb::pbd {
+namespace {
+
+constexpr int kWidth = ConstraintBatches::kWidth;
+using lanes::Triple;
+using Lanes = lanes::Batch;
+template <int N>
+using Batch = ConstraintBatches::Batch<N>;
+template <int N>
+using VertexRows = Eigen::Matrix<int, Eigen::Dynamic, N, Eigen::RowMajor>;
+
+/// The constraints (rows of `vertices`) that can move something: one of their
+/// vertices has inverse mass > 0.
+template <int N>
+std::vector<int> movable(const VertexRows<N>& vertices, const Eigen::VectorXd& w) {
+  std::vector<int> kept;
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i) {
+    bool moves = false;
+    for (int j = 0; j < N; ++j) {
+      if (vertices(i, j) < 0 || vertices(i, j) >= w.size())
+        throw std::invalid_argument("PBD constraints: vertex index out of range of the inverse masses");
+      moves = moves || w(vertices(i, j)) > 0;
+    }
+    if (moves) kept.push_back(static_cast<int>(i));
+  }
+  return kept;
+}
+
+/// `kept` reordered by a greedy graph colouring (no two constraints of one colour
+/// share a vertex), keeping the original order within a colour, so that runs of
+/// consecutive constraints are independent and fill batches.
+template <int N>
+std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<int>& kept, size_t vertex_count) {
+  std::vector<uint64_t> used(vertex_count, 0);  // colours already taken at each vertex
+  std::vector<int> colour(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    uint64_t taken = 0;
+    for (int j = 0; j < N; ++j) taken |= used[static_cast<size_t>(vertices(kept[i], j))];
+    // The lowest free colour; a vertex with 64 colours around it (valence > 64 for
+    // stretch) sends the rest to colour 64, whose constraints may share vertices:
+    // the packing below then splits them into smaller batches.
+    const int c = ~taken ? __builtin_ctzll(~taken) : 64;
+    colour[i] = c;
+    if (c < 64)
+      for (int j = 0; j < N; ++j) used[static_cast<size_t>(vertices(kept[i], j))] |= uint64_t{1} << c;
+  }
+  std::vector<size_t> by_colour(kept.size());
+  std::iota(by_colour.begin(), by_colour.end(), size_t{0});
+  std::stable_sort(by_colour.begin(), by_colour.end(), [&](size_t a, size_t b) { return colour[a] < colour[b]; });
+  std::vector<int> order;
+  order.reserve(kept.size());
+  for (size_t i : by_colour) order.push_back(kept[i]);
+  return order;
+}
+
+/// Consecutive constraints of `order` packed into batches; a batch closes when it
+/// is full or the next constraint shares a vertex with it. Padding lanes repeat
+/// lane 0's first vertex in every slot with inverse mass 0: degenerate, so their
+/// corrections are zero.
+template <int N>
+std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd& rest, const std::vector<int>& order,
+                           const Eigen::VectorXd& w) {
+  std::vector<size_t> last_batch(static_cast<size_t>(w.size()), SIZE_MAX);  // the last batch using each vertex
+  std::vector<Batch<N>> batches;
+  for (int i : order) {
+    bool fits = !batches.empty() && batches.back().count < kWidth;
+    for (int j = 0; j < N && fits; ++j) fits = last_batch[static_cast<size_t>(vertices(i, j))] != batches.size() - 1;
+    if (!fits) batches.push_back(Batch<N>{});
+    Batch<N>& b = batches.back();
+    const int l = b.count++;
+    for (int j = 0; j < N; ++j) {
+      const int v = vertices(i, j);
+      b.q[j][l] = v;
+      b.w[j][l] = w(v);
+      last_batch[static_cast<size_t>(v)] = batches.size() - 1;
+    }
+    b.rest[l] = rest(i);
+  }
+  for (Batch<N>& b : batches)
+    for (int l = b.count; l < kWidth; ++l)
+      for (int j = 0; j < N; ++j) b.q[j][l] = b.q[0][0];  // w and rest stay 0
+  return batches;
+}
+
+template <int N>
+TB_PBD_INLINE void gather(const double* x, const Batch<N>& b, Triple<Lanes> p[N]) {
+  for (int j = 0; j < N; ++j)
+    for (int l = 0; l < kWidth; ++l) {
+      const double* v = x + 3 * static_cast<ptrdiff_t>(b.q[j][l]);
+      p[j].x[l] = v[0];
+      p[j].y[l] = v[1];
+      p[j].z[l] = v[2];
+    }
+}
+
+/// x = p + corr for the batch's real lanes.
+template <int N>
+TB_PBD_INLINE void scatter_corrected(double* x, const Batch<N>& b, const Triple<Lanes> p[N],
+                                     const Triple<Lanes> corr[N]) {
+  for (int j = 0; j < N; ++j) {
+    const Triple<Lanes> moved = p[j] + corr[j];
+    for (int l = 0; l < b.count; ++l) {
+      double* v = x + 3 * static_cast<ptrdiff_t>(b.q[j][l]);
+      v[0] = moved.x[l];
+      v[1] = moved.y[l];
+      v[2] = moved.z[l];
+    }
+  }
+}
+
+struct SweepArgs {
+  const std::vector<Batch<2>>& stretch;
+  const std::vector<Batch<4>>& bending;
+  double* x;
+  bool reverse;
+  double k_stretch, k_bend;
+  BendingAngle kind;
+};
+
+/// The sweep, compiled once per instruction set by the functions below.
+TB_PBD_INLINE void sweep_batches(const SweepArgs& a) {
+  const size_t ns = a.stretch.size(), nb = a.bending.size();
+  for (size_t k = 0; k < ns; ++k) {
+    const Batch<2>& b = a.stretch[a.reverse ? ns - 1 - k : k];
+    Triple<Lanes> p[2], corr[2];
+    gather(a.x, b, p);
+    kernels::project_stretch(p[0], b.w[0], p[1], b.w[1], b.rest, a.k_stretch, corr[0], corr[1]);
+    scatter_corrected(a.x, b, p, corr);
+  }
+  if (a.k_bend <= 0) return;
+  for (size_t k = 0; k < nb; ++k) {
+    const Batch<4>& b = a.bending[a.reverse ? nb - 1 - k : k];
+    Triple<Lanes> p[4], corr[4];
+    gather(a.x, b, p);
+    kernels::project_bending(p, b.w, b.rest, a.k_bend, a.kind, corr);
+    scatter_corrected(a.x, b, p, corr);
+  }
+}
+
+void sweep_sse2(const SweepArgs& a) { sweep_batches(a); }
+__attribute__((target("avx"))) void sweep_avx(const SweepArgs& a) { sweep_batches(a); }
+
+}  // namespace
+
+InstructionSet best_instruction_set() {
+  static const InstructionSet best = __builtin_cpu_supports("avx") ? InstructionSet::Avx : InstructionSet::Sse2;
+  return best;
+}
+
+const char* name(InstructionSet isa) { return isa == InstructionSet::Avx ? "avx" : "sse2"; }
+
+ConstraintBatches::ConstraintBatches(const ConstraintSet& c, const Eigen::VectorXd& w)
+    : stretch_order_(colour_order(c.stretch, movable(c.stretch, w), static_cast<size_t>(w.size()))),
+      bending_order_(colour_order(c.bending, movable(c.bending, w), static_cast<size_t>(w.size()))) {
+  stretch_ = pack(c.stretch, c.stretch_rest, stretch_order_, w);
+  bending_ = pack(c.bending, c.bending_rest, bending_order_, w);
+}
+
+void ConstraintBatches::sweep(double* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
+                              InstructionSet isa) const {
+  if (isa == InstructionSet::Avx && best_instruction_set() != InstructionSet::Avx)
+    throw std::invalid_argument("PBD sweep: this CPU has no AVX");
+  const SweepArgs args{stretch_, bending_, positions, reverse, k_stretch, k_bend, kind};
+  if (isa == InstructionSet::Avx)
+    sweep_avx(args);
+  else
+    sweep_sse2(args);
+}
+
+}  // namespace tb::pbd

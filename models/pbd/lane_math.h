@@ -1,0 +1,124 @@
+// Arithmetic written once for a single double and for a batch of doubles (a GCC
+// vector, one constraint per lane), so that the PBD sweep, which projects a batch
+// of independent constraints at a time, and the scalar constraint functions
+// compute bitwise the same numbers. Every operation here is either exactly
+// rounded (+ - * / sqrt) or a select, so a lane of a batch equals the scalar
+// result whatever the vector width; the build keeps FMA contraction off for the
+// files that use it (models/CMakeLists.txt), which would break that equality.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <type_traits>
+
+namespace tb::pbd {
+
+// GCC does not inline the projection kernels on their own (too large), and as
+// calls they cost a third of the sweep; in the batched sweep they must be inlined
+// into the CPU-specific function to use its instruction set.
+#define TB_PBD_INLINE inline __attribute__((always_inline))
+
+namespace lanes {
+
+/// Four doubles in one vector register (AVX) or two (SSE2); +, -, *, / and
+/// comparisons act lane by lane, comparisons giving a mask (-1 true, 0 false).
+/// Stored batches need alignas(kBatchAlignment): without AVX enabled GCC gives
+/// the type 16-byte alignment, but code compiled for AVX assumes 32.
+typedef double Batch __attribute__((vector_size(4 * sizeof(double))));
+constexpr size_t kBatchAlignment = sizeof(Batch);
+constexpr int kBatchWidth = sizeof(Batch) / sizeof(double);
+
+template <class T>
+constexpr int width() {
+  if constexpr (std::is_same_v<T, double>)
+    return 1;
+  else
+    return sizeof(T) / sizeof(double);
+}
+
+/// The constant c in every lane (T{} is zero in every lane).
+template <class T>
+TB_PBD_INLINE T splat(double c) {
+  return T{} + c;
+}
+
+/// m ? a : b, lane by lane for a batch (m from a comparison of batches).
+template <class M, class T>
+TB_PBD_INLINE T select(M m, T a, T b) {
+  return m ? a : b;
+}
+
+template <class T>
+TB_PBD_INLINE T sqrt(T x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return std::sqrt(x);
+  } else {
+    T r;  // one vsqrtpd with -fno-math-errno (models/CMakeLists.txt)
+    for (int l = 0; l < width<T>(); ++l) r[l] = std::sqrt(x[l]);
+    return r;
+  }
+}
+
+template <class T>
+TB_PBD_INLINE T abs(T x) {
+  return select(x < T{}, -x, x);
+}
+
+/// atan2(y, x) in [-pi, pi] from Cephes' atan (S. Moshier, rational minimax
+/// approximation on [0, 0.66], about 1e-16 relative), with the octant reduction
+/// done by selects so that it vectorises; glibc's atan2 does not, and was 28% of a
+/// PBD frame. atan2(0, 0) = 0 (no NaN); y = -0 counts as positive.
+template <class T>
+TB_PBD_INLINE T atan2(T y, T x) {
+  constexpr double kPi = 3.14159265358979323846, kMoreBits = 6.123233995736765886130e-17;  // pi/2 - fl(pi/2)
+  const T ax = abs(x), ay = abs(y);
+  const auto steep = ay > ax;  // the angle is beyond pi/4: atan(a) = pi/2 - atan(1/a)
+  const T num = select(steep, ax, ay), den = select(steep, ay, ax);
+  const T a = num / select(den > T{}, den, splat<T>(1));  // in [0, 1]
+  const auto high = a > splat<T>(0.66);                   // tan(pi/4 + z) = (1 + z')/(1 - z'): reduce to |z| < 0.2
+  const T z = select(high, (a - 1) / (a + 1), a);
+  const T z2 = z * z;
+  const T p = (((-8.750608600031904122785e-1 * z2 - 1.615753718733365076637e1) * z2 - 7.500855792314704667340e1) * z2 -
+               1.228866684490136173410e2) *
+                  z2 -
+              6.485021904942025371773e1;
+  const T q =
+      ((((z2 + 2.485846490142306297962e1) * z2 + 1.650270098316988542046e2) * z2 + 4.328810604912902668951e2) * z2 +
+       4.853903996359136964868e2) *
+          z2 +
+      1.945506571482613964425e2;
+  const T small = z + z * (z2 * p / q);                                      // atan(z)
+  T r = select(high, splat<T>(kPi / 4) + (small + 0.5 * kMoreBits), small);  // atan(a) in [0, pi/4]
+  r = select(steep, splat<T>(kPi / 2) - r + kMoreBits, r);                   // [0, pi/2]
+  r = select(x < T{}, splat<T>(kPi) - r + 2 * kMoreBits, r);                 // [0, pi]
+  return select(y < T{}, -r, r);
+}
+
+/// A 3-vector of doubles or of batches (one vector per lane).
+template <class T>
+struct Triple {
+  T x, y, z;
+};
+template <class T>
+TB_PBD_INLINE Triple<T> operator+(const Triple<T>& a, const Triple<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T>
+TB_PBD_INLINE Triple<T> operator-(const Triple<T>& a, const Triple<T>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class T>
+TB_PBD_INLINE Triple<T> operator*(T s, const Triple<T>& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+template <class T>
+TB_PBD_INLINE T dot(const Triple<T>& a, const Triple<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+TB_PBD_INLINE Triple<T> cross(const Triple<T>& a, const Triple<T>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+}  // namespace lanes
+}  // namespace tb::pbd

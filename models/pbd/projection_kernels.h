@@ -1,0 +1,96 @@
+// The constraint projections of paper 1.4 as kernels over one constraint (T =
+// double) or a batch of independent constraints, one per lane (T = lanes::Batch).
+// constraints.h wraps them for single constraints; the solver's sweep runs them
+// on batches. Branch-free: a lane that cannot move (degenerate or fixed) gets zero
+// corrections and a false mask entry.
+#pragma once
+
+#include "constraints.h"
+#include "lane_math.h"
+
+namespace tb::pbd::kernels {
+
+using lanes::Triple;
+constexpr double kTiny = 1e-30;
+
+/// Signed angle theta between the wing normals, turning about the edge p2 - p1,
+/// and (if grad) its gradient; |theta| = arccos(n1 . n2). The normals are
+/// Bridson's N1 = (p3 - p1) x (p3 - p2), N2 = (p4 - p2) x (p4 - p1): consistently
+/// oriented, so that they coincide when the two triangles are coplanar and
+/// unfolded, and the same arithmetic at rest and in a frame, so the rest angle and
+/// the angle at rest are bitwise equal (zero load leaves the surface exactly at
+/// rest). The angle is atan2(sin, cos): accurate near 0 and pi, where arccos
+/// loses half the digits, and never NaN (the paper's arccos argument clamped,
+/// exactly). The gradient is Bridson, Marino, Fedkiw 2003 (as in Bender's
+/// solve_DihedralConstraint): with e = p2 - p1 and m3 = n1 / |n1|^2,
+/// m4 = n2 / |n2|^2, d theta/d p3 = |e| m3, d theta/d p4 = |e| m4 and for p1, p2
+/// the combinations of the wings' projections on e below; bounded as the
+/// triangles become coplanar (the 1/sqrt(1 - d^2) of eqs. 22-24 is 0/0 there).
+/// Signs checked against finite differences in tests/models/pbd/constraints_test.cc.
+/// Returns the mask of non-degenerate lanes; degenerate ones get theta = 0 and a
+/// finite gradient the caller must ignore.
+template <class T>
+TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad) {
+  using lanes::splat;
+  const T one = splat<T>(1), tiny = splat<T>(kTiny);
+  const Triple<T> e = p[1] - p[0];
+  const T elen = lanes::sqrt(dot(e, e));
+  const Triple<T> n1 = cross(p[2] - p[0], p[2] - p[1]), n2 = cross(p[3] - p[1], p[3] - p[0]);
+  const T a3 = dot(n1, n1), a4 = dot(n2, n2);
+  const auto ok = (elen > tiny) & (a3 > tiny) & (a4 > tiny);
+  // Reciprocals once, then products: divisions are the slowest links of the
+  // dependency chain of a projection. Guarded so degenerate lanes stay finite.
+  const T inv = one / lanes::select(ok, elen, one);
+  theta = lanes::select(ok, lanes::atan2(-dot(cross(n1, n2), e) * inv, dot(n1, n2)), T{});
+  if (grad) {
+    const Triple<T> m3 = (one / lanes::select(ok, a3, one)) * n1, m4 = (one / lanes::select(ok, a4, one)) * n2;
+    grad[0] = (dot(p[2] - p[1], e) * inv) * m3 + (dot(p[3] - p[1], e) * inv) * m4;
+    const Triple<T> g1 = (dot(p[2] - p[0], e) * inv) * m3 + (dot(p[3] - p[0], e) * inv) * m4;
+    grad[1] = Triple<T>{} - g1;
+    grad[2] = elen * m3;
+    grad[3] = elen * m4;
+  }
+  return ok;
+}
+
+/// Stretch projection, eqs. (14)-(18), scaled by stiffness in [0, 1]. The mask is
+/// false (zero corrections) where both points are fixed or coincide.
+template <class T>
+TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T w1, const Triple<T>& p2, T w2, T rest_length,
+                                   double stiffness, Triple<T>& corr1, Triple<T>& corr2) {
+  const T one = lanes::splat<T>(1);
+  const T wsum = w1 + w2;
+  const Triple<T> d = p1 - p2;
+  const T len = lanes::sqrt(dot(d, d));
+  const auto ok = (wsum > T{}) & (len > lanes::splat<T>(kTiny));
+  const Triple<T> n = (one / lanes::select(ok, len, one)) * d;
+  const T s = lanes::select(ok, stiffness * (len - rest_length) / lanes::select(ok, wsum, one), T{});
+  corr1 = (-s * w1) * n;  // eq. (17)
+  corr2 = (s * w2) * n;   // eq. (18)
+  return ok;
+}
+
+/// Bending projection: dp_i = -s w_i C / (sum_j w_j |grad_j C|^2) grad_i C (eq. 13
+/// with masses; the paper's eq. (26) with its extra factor 4 is Mueller 2007's
+/// typo, not used), C as `kind` says (constraints.h). rest_angle is the signed
+/// rest angle theta0. The mask is false (zero corrections) where nothing moves.
+template <class T>
+TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_angle, double stiffness,
+                                   BendingAngle kind, Triple<T> corr[4]) {
+  T theta;
+  auto ok = signed_angle(p, theta, corr);  // corr holds the gradient of theta
+  T c = theta - rest_angle;
+  T sign = lanes::splat<T>(1);
+  if (kind == BendingAngle::Unsigned) {  // eq. (19): C = |theta| - |theta_0|, grad C = sign(theta) grad theta
+    sign = lanes::select(theta < T{}, lanes::splat<T>(-1), sign);
+    c = lanes::abs(theta) - lanes::abs(rest_angle);
+  }
+  T denom{};
+  for (int k = 0; k < 4; ++k) denom += w[k] * dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
+  ok = ok & (denom > lanes::splat<T>(kTiny));
+  const T s = lanes::select(ok, -stiffness * c / lanes::select(ok, denom, lanes::splat<T>(1)), T{});
+  for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * (sign * corr[k]);
+  return ok;
+}
+
+}  // namespace tb::pbd::kernels
