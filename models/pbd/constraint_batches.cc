@@ -85,6 +85,12 @@ std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd&
       last_batch[static_cast<size_t>(v)] = batches.size() - 1;
     }
     b.rest[l] = rest(i);
+    if constexpr (N == 2) {  // a stretch batch keeps its correction shares (constant) instead
+      double share1, share2;
+      kernels::stretch_shares(b.w[0][l], b.w[1][l], share1, share2);
+      b.w[0][l] = share1;
+      b.w[1][l] = share2;
+    }
   }
   for (Batch<N>& b : batches)
     for (int l = b.count; l < kWidth; ++l)

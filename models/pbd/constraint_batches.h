@@ -49,7 +49,9 @@ class ConstraintBatches {
   /// (inverse masses 0, vertices of lane 0), computed but not written back.
   template <int N>
   struct alignas(lanes::kBatchAlignment) Batch {
-    alignas(lanes::kBatchAlignment) lanes::Batch w[N];  ///< inverse masses of each vertex slot
+    /// Inverse masses of each vertex slot; for stretch (N = 2) their shares
+    /// w_i / (w_1 + w_2) (kernels::stretch_shares), which are all the projection needs.
+    alignas(lanes::kBatchAlignment) lanes::Batch w[N];
     alignas(lanes::kBatchAlignment) lanes::Batch rest;  ///< rest length or signed rest angle
     int q[N][kWidth];                                   ///< vertex indices
     int count;

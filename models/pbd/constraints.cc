@@ -37,7 +37,9 @@ void stretch_gradient(const Vec3& p1, const Vec3& p2, Vec3& g1, Vec3& g2) {
 bool project_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length, double stiffness,
                      Vec3& corr1, Vec3& corr2) {
   Triple<double> c1, c2;
-  const bool ok = kernels::project_stretch(triple(p1), w1, triple(p2), w2, rest_length, stiffness, c1, c2);
+  double share1, share2;
+  kernels::stretch_shares(w1, w2, share1, share2);
+  const bool ok = kernels::project_stretch(triple(p1), share1, triple(p2), share2, rest_length, stiffness, c1, c2);
   corr1 = vec(c1);
   corr2 = vec(c2);
   return ok;

@@ -73,10 +73,11 @@ TB_PBD_INLINE T atan2(T y, T x) {
   constexpr double kPi = 3.14159265358979323846, kMoreBits = 6.123233995736765886130e-17;  // pi/2 - fl(pi/2)
   const T ax = abs(x), ay = abs(y);
   const auto steep = ay > ax;  // the angle is beyond pi/4: atan(a) = pi/2 - atan(1/a)
-  const T num = select(steep, ax, ay), den = select(steep, ay, ax);
-  const T a = num / select(den > T{}, den, splat<T>(1));  // in [0, 1]
-  const auto high = a > splat<T>(0.66);                   // tan(pi/4 + z) = (1 + z')/(1 - z'): reduce to |z| < 0.2
-  const T z = select(high, (a - 1) / (a + 1), a);
+  const T num = select(steep, ax, ay), den = select(steep, ay, ax);  // a = num / den in [0, 1]
+  // Beyond a = 0.66, tan(pi/4 + z) = a gives z = (a - 1)/(a + 1) = (num - den)/(num + den),
+  // |z| < 0.21; below, z = a. One division either way; den = 0 only at the origin.
+  const auto high = num > 0.66 * den;
+  const T z = select(high, num - den, num) / select(high, num + den, select(den > T{}, den, splat<T>(1)));
   const T z2 = z * z;
   const T p = (((-8.750608600031904122785e-1 * z2 - 1.615753718733365076637e1) * z2 - 7.500855792314704667340e1) * z2 -
                1.228866684490136173410e2) *

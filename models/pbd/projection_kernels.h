@@ -43,7 +43,8 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
   const T inv = one / lanes::select(ok, elen, one);
   theta = lanes::select(ok, lanes::atan2(-dot(cross(n1, n2), e) * inv, dot(n1, n2)), T{});
   if (grad) {
-    const Triple<T> m3 = (one / lanes::select(ok, a3, one)) * n1, m4 = (one / lanes::select(ok, a4, one)) * n2;
+    const T r34 = one / lanes::select(ok, a3 * a4, one);  // 1/a3 = a4 r34: one division for two
+    const Triple<T> m3 = (a4 * r34) * n1, m4 = (a3 * r34) * n2;
     grad[0] = (dot(p[2] - p[1], e) * inv) * m3 + (dot(p[3] - p[1], e) * inv) * m4;
     const Triple<T> g1 = (dot(p[2] - p[0], e) * inv) * m3 + (dot(p[3] - p[0], e) * inv) * m4;
     grad[1] = Triple<T>{} - g1;
@@ -53,20 +54,28 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
   return ok;
 }
 
-/// Stretch projection, eqs. (14)-(18), scaled by stiffness in [0, 1]. The mask is
-/// false (zero corrections) where both points are fixed or coincide.
+/// The inverse-mass shares w1 / (w1 + w2) and w2 / (w1 + w2) of a stretch
+/// constraint's correction (0 when both points are fixed); constant per constraint.
+inline void stretch_shares(double w1, double w2, double& share1, double& share2) {
+  const double wsum = w1 + w2;
+  share1 = wsum > 0 ? w1 / wsum : 0;
+  share2 = wsum > 0 ? w2 / wsum : 0;
+}
+
+/// Stretch projection, eqs. (14)-(18), scaled by stiffness in [0, 1]: with
+/// s = k (|d| - rest) / |d| and d = p1 - p2, dp1 = -s share1 d and dp2 = s share2 d
+/// (shares from stretch_shares). The mask is false (zero corrections) where both
+/// points are fixed or coincide.
 template <class T>
-TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T w1, const Triple<T>& p2, T w2, T rest_length,
+TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T>& p2, T share2, T rest_length,
                                    double stiffness, Triple<T>& corr1, Triple<T>& corr2) {
   const T one = lanes::splat<T>(1);
-  const T wsum = w1 + w2;
   const Triple<T> d = p1 - p2;
   const T len = lanes::sqrt(dot(d, d));
-  const auto ok = (wsum > T{}) & (len > lanes::splat<T>(kTiny));
-  const Triple<T> n = (one / lanes::select(ok, len, one)) * d;
-  const T s = lanes::select(ok, stiffness * (len - rest_length) / lanes::select(ok, wsum, one), T{});
-  corr1 = (-s * w1) * n;  // eq. (17)
-  corr2 = (s * w2) * n;   // eq. (18)
+  const auto ok = (share1 + share2 > T{}) & (len > lanes::splat<T>(kTiny));
+  const T s = lanes::select(ok, stiffness * (len - rest_length) / lanes::select(ok, len, one), T{});
+  corr1 = (-s * share1) * d;  // eq. (17)
+  corr2 = (s * share2) * d;   // eq. (18)
   return ok;
 }
 
