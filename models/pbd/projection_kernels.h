@@ -34,7 +34,7 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
   using lanes::splat;
   const T one = splat<T>(1), tiny = splat<T>(kTiny);
   const Triple<T> e = p[1] - p[0];
-  const T elen = lanes::sqrt(dot(e, e));
+  const T ee = dot(e, e), elen = lanes::sqrt(ee);
   const Triple<T> n1 = cross(p[2] - p[0], p[2] - p[1]), n2 = cross(p[3] - p[1], p[3] - p[0]);
   const T a3 = dot(n1, n1), a4 = dot(n2, n2);
   const auto ok = (elen > tiny) & (a3 > tiny) & (a4 > tiny);
@@ -43,13 +43,16 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
   const T inv = one / lanes::select(ok, elen, one);
   theta = lanes::select(ok, lanes::atan2(-dot(cross(n1, n2), e) * inv, dot(n1, n2)), T{});
   if (grad) {
-    const T r34 = one / lanes::select(ok, a3 * a4, one);  // 1/a3 = a4 r34: one division for two
+    // With m3' = m3 / |e| and m4' = m4 / |e| (1/a3 = a4 / (a3 a4): one division
+    // for both) and the wings' projections on e, d3 = (p3 - p1) . e, d4 = (p4 - p1) . e
+    // (and (p3 - p2) . e = d3 - |e|^2, likewise for p4):
+    const T r34 = inv / lanes::select(ok, a3 * a4, one);
     const Triple<T> m3 = (a4 * r34) * n1, m4 = (a3 * r34) * n2;
-    grad[0] = (dot(p[2] - p[1], e) * inv) * m3 + (dot(p[3] - p[1], e) * inv) * m4;
-    const Triple<T> g1 = (dot(p[2] - p[0], e) * inv) * m3 + (dot(p[3] - p[0], e) * inv) * m4;
-    grad[1] = Triple<T>{} - g1;
-    grad[2] = elen * m3;
-    grad[3] = elen * m4;
+    const T d3 = dot(p[2] - p[0], e), d4 = dot(p[3] - p[0], e);
+    grad[0] = (d3 - ee) * m3 + (d4 - ee) * m4;
+    grad[1] = (-d3) * m3 + (-d4) * m4;
+    grad[2] = ee * m3;
+    grad[3] = ee * m4;
   }
   return ok;
 }
@@ -97,8 +100,8 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
   T denom{};
   for (int k = 0; k < 4; ++k) denom += w[k] * dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
   ok = ok & (denom > lanes::splat<T>(kTiny));
-  const T s = lanes::select(ok, -stiffness * c / lanes::select(ok, denom, lanes::splat<T>(1)), T{});
-  for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * (sign * corr[k]);
+  const T s = lanes::select(ok, -stiffness * c / lanes::select(ok, denom, lanes::splat<T>(1)), T{}) * sign;
+  for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * corr[k];
   return ok;
 }
 
