@@ -98,29 +98,47 @@ std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd&
   return batches;
 }
 
-template <int N>
-TB_PBD_INLINE void gather(const double* x, const Batch<N>& b, Triple<Lanes> p[N]) {
-  for (int j = 0; j < N; ++j)
-    for (int l = 0; l < kWidth; ++l) {
-      const double* v = x + 3 * static_cast<ptrdiff_t>(b.q[j][l]);
-      p[j].x[l] = v[0];
-      p[j].y[l] = v[1];
-      p[j].z[l] = v[2];
-    }
+static_assert(kWidth == ConstraintBatches::kPositionStride, "the gather transposes a square of lanes x coordinates");
+
+/// A batch at any 8-byte aligned address: one unaligned vector load or store.
+typedef double UnalignedLanes __attribute__((vector_size(sizeof(Lanes)), aligned(alignof(double))));
+
+/// The 4 x 4 transpose of rows (r0, r1, r2, r3), in place.
+TB_PBD_INLINE void transpose(Lanes r[4]) {
+  using Index = decltype(Lanes{} < Lanes{});
+  const Lanes t0 = __builtin_shuffle(r[0], r[1], Index{0, 4, 2, 6}),
+              t1 = __builtin_shuffle(r[0], r[1], Index{1, 5, 3, 7});
+  const Lanes t2 = __builtin_shuffle(r[2], r[3], Index{0, 4, 2, 6}),
+              t3 = __builtin_shuffle(r[2], r[3], Index{1, 5, 3, 7});
+  r[0] = __builtin_shuffle(t0, t2, Index{0, 1, 4, 5});
+  r[1] = __builtin_shuffle(t1, t3, Index{0, 1, 4, 5});
+  r[2] = __builtin_shuffle(t0, t2, Index{2, 3, 6, 7});
+  r[3] = __builtin_shuffle(t1, t3, Index{2, 3, 6, 7});
 }
 
-/// x = p + corr for the batch's real lanes.
+/// The positions of each vertex slot of the batch, one lane per constraint: one
+/// load per vertex (x, y, z, unused) and a transpose.
+template <int N>
+TB_PBD_INLINE void gather(const double* x, const Batch<N>& b, Triple<Lanes> p[N]) {
+  for (int j = 0; j < N; ++j) {
+    Lanes r[4];
+    for (int l = 0; l < kWidth; ++l)
+      r[l] = *reinterpret_cast<const UnalignedLanes*>(x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]});
+    transpose(r);
+    p[j] = {r[0], r[1], r[2]};
+  }
+}
+
+/// x = p + corr for the batch's real lanes (the unused fourth coordinate gets 0).
 template <int N>
 TB_PBD_INLINE void scatter_corrected(double* x, const Batch<N>& b, const Triple<Lanes> p[N],
                                      const Triple<Lanes> corr[N]) {
   for (int j = 0; j < N; ++j) {
     const Triple<Lanes> moved = p[j] + corr[j];
-    for (int l = 0; l < b.count; ++l) {
-      double* v = x + 3 * static_cast<ptrdiff_t>(b.q[j][l]);
-      v[0] = moved.x[l];
-      v[1] = moved.y[l];
-      v[2] = moved.z[l];
-    }
+    Lanes r[4] = {moved.x, moved.y, moved.z, Lanes{}};
+    transpose(r);
+    for (int l = 0; l < b.count; ++l)
+      *reinterpret_cast<UnalignedLanes*>(x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]}) = r[l];
   }
 }
 

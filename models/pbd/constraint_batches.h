@@ -16,6 +16,23 @@ namespace tb::pbd {
 
 struct ConstraintSet;
 
+/// Positions as the sweep wants them: #V rows of (x, y, z, unused), each row one
+/// 32-byte aligned vector (with Eigen's 16-byte alignment every other row straddles
+/// two cache lines: about 5% slower).
+using PaddedPoints = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+class PaddedPositions {
+ public:
+  explicit PaddedPositions(Eigen::Index rows) : rows_(static_cast<size_t>(rows)) {}
+  Eigen::Map<PaddedPoints> matrix() { return {rows_.data()->xyz_, static_cast<Eigen::Index>(rows_.size()), 4}; }
+  double* data() { return rows_.data()->xyz_; }
+
+ private:
+  struct alignas(4 * sizeof(double)) Row {
+    double xyz_[4] = {0, 0, 0, 0};
+  };
+  std::vector<Row> rows_;
+};
+
 /// The vector instructions a sweep runs with: SSE2 (every x86-64, two lanes per
 /// instruction) or AVX (four), chosen at run time; the results are the same.
 enum class InstructionSet { Sse2, Avx };
@@ -25,6 +42,9 @@ const char* name(InstructionSet isa);
 class ConstraintBatches {
  public:
   static constexpr int kWidth = lanes::kBatchWidth;
+  /// Doubles per vertex in the positions the sweep works on: x, y, z and one
+  /// unused, so that a vertex is one vector load.
+  static constexpr int kPositionStride = 4;
 
   /// Keeps the constraints that can move something (one of their vertices has
   /// inverse mass > 0), orders them by a greedy graph colouring and packs
@@ -34,7 +54,8 @@ class ConstraintBatches {
 
   /// One Gauss-Seidel sweep over all stretch constraints, then all bending
   /// constraints (skipped when k_bend <= 0), forward or in reverse order.
-  ///   positions  #V by 3, row-major, updated in place
+  ///   positions  #V by kPositionStride, row-major (x, y, z, unused), updated in
+  ///              place; the unused column is overwritten with zeros
   void sweep(double* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
              InstructionSet isa) const;
 

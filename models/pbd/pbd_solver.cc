@@ -97,8 +97,8 @@ Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
 Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings)
     : rest_(rest.V),
       x_(rest.V),
-      p_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
+      p_(rest.V.rows()),
       w_(inverse_mass),
       c_(build_constraints(rest)),
       batches_(c_, inverse_mass),
@@ -115,15 +115,15 @@ void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vect
   const double dt = s_.time_step;
   if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
   v_ *= (1 - s_.damping);
-  p_ = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
   for (size_t k = 0; k < pinned.size(); ++k)
-    p_.row(pinned[k]) = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
+    p_.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
   for (int it = 0; it < s_.iterations; ++it)
     batches_.sweep(p_.data(), it % 2 == 1, k_stretch_, k_bend_, s_.bending_angle, isa_);
-  v_ = (p_ - x_) / dt;  // eq. (35)
-  x_ = p_;              // eq. (34)
+  v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
+  x_ = p_.matrix().leftCols<3>();              // eq. (34)
 }
 
 }  // namespace tb::pbd

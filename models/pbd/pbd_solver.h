@@ -69,7 +69,8 @@ class Solver {
   void use_instruction_set(InstructionSet isa) { isa_ = isa; }
 
  private:
-  Points rest_, x_, p_, v_;
+  Points rest_, x_, v_;
+  PaddedPositions p_;  // the predicted positions the projection moves
   Eigen::VectorXd w_;
   ConstraintSet c_;
   ConstraintBatches batches_;  // c_ ordered and packed for the sweep
