@@ -12,6 +12,7 @@
 #include "hybrid_builder.h"
 #include "mesh_recipe.h"
 #include "model.h"
+#include "pbd_solver.h"
 #include "scenario.h"
 
 namespace tb {
@@ -124,9 +125,28 @@ void dynamic_frame(benchmark::State& state, const std::string& model) {
   for (int f = 0; f < 200; ++f) m->step(load);  // measure near the steady state
   for (auto _ : state) m->step(load);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+  state.SetLabel(pbd::name(pbd::best_instruction_set()));  // the projection's vector instructions
 }
 void BM_PbdFrame(benchmark::State& state) { dynamic_frame(state, "pbd"); }
 void BM_HybridFrame(benchmark::State& state) { dynamic_frame(state, "hybrid"); }
+
+/// One PBD frame on the cube (10 iterations) with the projection on SSE2
+/// (range(0) = 0) or AVX (1): what the run-time choice is worth.
+void BM_PbdFrameInstructionSet(benchmark::State& state) {
+  const pbd::InstructionSet isa = state.range(0) == 1 ? pbd::InstructionSet::Avx : pbd::InstructionSet::Sse2;
+  if (isa == pbd::InstructionSet::Avx && pbd::best_instruction_set() != isa) {
+    state.SkipWithError("this CPU has no AVX");
+    return;
+  }
+  const SurfaceMesh& s = cube_mesh(1).fine_surface;
+  pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), pbd::Settings{});
+  solver.use_instruction_set(isa);
+  const int load_vertex = pbd::nearest_vertex(s.V, kCubeLoad.point);
+  const Points no_pins;
+  for (int f = 0; f < 200; ++f) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
+  for (auto _ : state) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
+  state.SetLabel(pbd::name(isa));
+}
 
 /// The coarse FEM inside the hybrid alone: back-substitution on the coarse mesh.
 void BM_HybridCoarseSolve(benchmark::State& state) {
@@ -166,6 +186,7 @@ BENCHMARK(BM_HybridFrame)
     ->ArgNames({"liver", "iterations"})
     ->ArgsProduct({{0, 1}, {5, 10, 20}})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdFrameInstructionSet)->ArgName("avx")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
 // 40 divisions: 9602 vertices; 129: 99 848 vertices.
 BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)->Unit(benchmark::kMillisecond);

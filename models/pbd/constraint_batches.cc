@@ -100,8 +100,23 @@ std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd&
 
 static_assert(kWidth == ConstraintBatches::kPositionStride, "the gather transposes a square of lanes x coordinates");
 
-/// A batch at any 8-byte aligned address: one unaligned vector load or store.
+// The sweep works on batches of four lanes held as one AVX vector (Lanes) or
+// as two SSE2 vectors (Twin<Vector2>); the helpers below come in both kinds.
+using SseLanes = lanes::Twin<lanes::Vector2>;
+
+/// A vector at any 8-byte aligned address: one unaligned load or store.
 typedef double UnalignedLanes __attribute__((vector_size(sizeof(Lanes)), aligned(alignof(double))));
+typedef double UnalignedPair __attribute__((vector_size(sizeof(lanes::Vector2)), aligned(alignof(double))));
+
+TB_PBD_INLINE void load(const double* x, Lanes& r) { r = *reinterpret_cast<const UnalignedLanes*>(x); }
+TB_PBD_INLINE void load(const double* x, SseLanes& r) {
+  r = {*reinterpret_cast<const UnalignedPair*>(x), *reinterpret_cast<const UnalignedPair*>(x + 2)};
+}
+TB_PBD_INLINE void store(const Lanes& r, double* x) { *reinterpret_cast<UnalignedLanes*>(x) = r; }
+TB_PBD_INLINE void store(const SseLanes& r, double* x) {
+  *reinterpret_cast<UnalignedPair*>(x) = r.lo;
+  *reinterpret_cast<UnalignedPair*>(x + 2) = r.hi;
+}
 
 /// The 4 x 4 transpose of rows (r0, r1, r2, r3), in place.
 TB_PBD_INLINE void transpose(Lanes r[4]) {
@@ -115,30 +130,47 @@ TB_PBD_INLINE void transpose(Lanes r[4]) {
   r[2] = __builtin_shuffle(t0, t2, Index{2, 3, 6, 7});
   r[3] = __builtin_shuffle(t1, t3, Index{2, 3, 6, 7});
 }
+TB_PBD_INLINE void transpose(SseLanes r[4]) {
+  using Index = decltype(lanes::Vector2{} < lanes::Vector2{});
+  const Index even{0, 2}, odd{1, 3};
+  const SseLanes t0 = {__builtin_shuffle(r[0].lo, r[1].lo, even), __builtin_shuffle(r[2].lo, r[3].lo, even)};
+  const SseLanes t1 = {__builtin_shuffle(r[0].lo, r[1].lo, odd), __builtin_shuffle(r[2].lo, r[3].lo, odd)};
+  const SseLanes t2 = {__builtin_shuffle(r[0].hi, r[1].hi, even), __builtin_shuffle(r[2].hi, r[3].hi, even)};
+  const SseLanes t3 = {__builtin_shuffle(r[0].hi, r[1].hi, odd), __builtin_shuffle(r[2].hi, r[3].hi, odd)};
+  r[0] = t0;
+  r[1] = t1;
+  r[2] = t2;
+  r[3] = t3;
+}
+
+/// A stored batch (inverse masses, rest values) as the sweep's lanes.
+template <class L>
+TB_PBD_INLINE L as_lanes(const lanes::Batch& b) {
+  L r;
+  __builtin_memcpy(&r, &b, sizeof r);
+  return r;
+}
 
 /// The positions of each vertex slot of the batch, one lane per constraint: one
 /// load per vertex (x, y, z, unused) and a transpose.
-template <int N>
-TB_PBD_INLINE void gather(const double* x, const Batch<N>& b, Triple<Lanes> p[N]) {
+template <class L, int N>
+TB_PBD_INLINE void gather(const double* x, const Batch<N>& b, Triple<L> p[N]) {
   for (int j = 0; j < N; ++j) {
-    Lanes r[4];
-    for (int l = 0; l < kWidth; ++l)
-      r[l] = *reinterpret_cast<const UnalignedLanes*>(x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]});
+    L r[4];
+    for (int l = 0; l < kWidth; ++l) load(x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]}, r[l]);
     transpose(r);
     p[j] = {r[0], r[1], r[2]};
   }
 }
 
 /// x = p + corr for the batch's real lanes (the unused fourth coordinate gets 0).
-template <int N>
-TB_PBD_INLINE void scatter_corrected(double* x, const Batch<N>& b, const Triple<Lanes> p[N],
-                                     const Triple<Lanes> corr[N]) {
+template <class L, int N>
+TB_PBD_INLINE void scatter_corrected(double* x, const Batch<N>& b, const Triple<L> p[N], const Triple<L> corr[N]) {
   for (int j = 0; j < N; ++j) {
-    const Triple<Lanes> moved = p[j] + corr[j];
-    Lanes r[4] = {moved.x, moved.y, moved.z, Lanes{}};
+    const Triple<L> moved = p[j] + corr[j];
+    L r[4] = {moved.x, moved.y, moved.z, L{}};
     transpose(r);
-    for (int l = 0; l < b.count; ++l)
-      *reinterpret_cast<UnalignedLanes*>(x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]}) = r[l];
+    for (int l = 0; l < b.count; ++l) store(r[l], x + ConstraintBatches::kPositionStride * ptrdiff_t{b.q[j][l]});
   }
 }
 
@@ -152,27 +184,30 @@ struct SweepArgs {
 };
 
 /// The sweep, compiled once per instruction set by the functions below.
+template <class L>
 TB_PBD_INLINE void sweep_batches(const SweepArgs& a) {
   const size_t ns = a.stretch.size(), nb = a.bending.size();
   for (size_t k = 0; k < ns; ++k) {
     const Batch<2>& b = a.stretch[a.reverse ? ns - 1 - k : k];
-    Triple<Lanes> p[2], corr[2];
+    Triple<L> p[2], corr[2];
     gather(a.x, b, p);
-    kernels::project_stretch(p[0], b.w[0], p[1], b.w[1], b.rest, a.k_stretch, corr[0], corr[1]);
+    kernels::project_stretch(p[0], as_lanes<L>(b.w[0]), p[1], as_lanes<L>(b.w[1]), as_lanes<L>(b.rest), a.k_stretch,
+                             corr[0], corr[1]);
     scatter_corrected(a.x, b, p, corr);
   }
   if (a.k_bend <= 0) return;
   for (size_t k = 0; k < nb; ++k) {
     const Batch<4>& b = a.bending[a.reverse ? nb - 1 - k : k];
-    Triple<Lanes> p[4], corr[4];
+    Triple<L> p[4], corr[4];
     gather(a.x, b, p);
-    kernels::project_bending(p, b.w, b.rest, a.k_bend, a.kind, corr);
+    const L w[4] = {as_lanes<L>(b.w[0]), as_lanes<L>(b.w[1]), as_lanes<L>(b.w[2]), as_lanes<L>(b.w[3])};
+    kernels::project_bending(p, w, as_lanes<L>(b.rest), a.k_bend, a.kind, corr);
     scatter_corrected(a.x, b, p, corr);
   }
 }
 
-void sweep_sse2(const SweepArgs& a) { sweep_batches(a); }
-__attribute__((target("avx"))) void sweep_avx(const SweepArgs& a) { sweep_batches(a); }
+void sweep_sse2(const SweepArgs& a) { sweep_batches<SseLanes>(a); }
+__attribute__((target("avx"))) void sweep_avx(const SweepArgs& a) { sweep_batches<Lanes>(a); }
 
 }  // namespace
 
