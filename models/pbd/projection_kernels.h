@@ -38,15 +38,15 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
   const Triple<T> n1 = cross(p[2] - p[0], p[2] - p[1]), n2 = cross(p[3] - p[1], p[3] - p[0]);
   const T a3 = dot(n1, n1), a4 = dot(n2, n2);
   const auto ok = (elen > tiny) & (a3 > tiny) & (a4 > tiny);
-  // Reciprocals once, then products: divisions are the slowest links of the
-  // dependency chain of a projection. Guarded so degenerate lanes stay finite.
-  const T inv = one / lanes::select(ok, elen, one);
-  theta = lanes::select(ok, lanes::atan2(-dot(cross(n1, n2), e) * inv, dot(n1, n2)), T{});
+  // atan2(sin, cos) with both scaled by |n1| |n2| |e| (the angle does not change):
+  // no division before atan2 on the longest dependency chain of a projection.
+  theta = lanes::select(ok, lanes::atan2(-dot(cross(n1, n2), e), dot(n1, n2) * elen), T{});
   if (grad) {
-    // With m3' = m3 / |e| and m4' = m4 / |e| (1/a3 = a4 / (a3 a4): one division
-    // for both) and the wings' projections on e, d3 = (p3 - p1) . e, d4 = (p4 - p1) . e
-    // (and (p3 - p2) . e = d3 - |e|^2, likewise for p4):
-    const T r34 = inv / lanes::select(ok, a3 * a4, one);
+    // With m3' = m3 / |e| and m4' = m4 / |e| (1/|e|, 1/a3 and 1/a4 from one
+    // division, guarded so degenerate lanes stay finite) and the wings' projections
+    // on e, d3 = (p3 - p1) . e, d4 = (p4 - p1) . e (and (p3 - p2) . e = d3 - |e|^2,
+    // likewise for p4):
+    const T r34 = one / lanes::select(ok, elen * (a3 * a4), one);
     const Triple<T> m3 = (a4 * r34) * n1, m4 = (a3 * r34) * n2;
     const T d3 = dot(p[2] - p[0], e), d4 = dot(p[3] - p[0], e);
     grad[0] = (d3 - ee) * m3 + (d4 - ee) * m4;
@@ -76,7 +76,8 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
   const Triple<T> d = p1 - p2;
   const T len = lanes::sqrt(dot(d, d));
   const auto ok = (share1 + share2 > T{}) & (len > lanes::splat<T>(kTiny));
-  const T s = lanes::select(ok, stiffness * (len - rest_length) / lanes::select(ok, len, one), T{});
+  const T inv_len = one / lanes::select(ok, len, one);  // starts while len - rest is computed
+  const T s = lanes::select(ok, stiffness * (len - rest_length) * inv_len, T{});
   corr1 = (-s * share1) * d;  // eq. (17)
   corr2 = (s * share2) * d;   // eq. (18)
   return ok;
@@ -100,7 +101,9 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
   T denom{};
   for (int k = 0; k < 4; ++k) denom += w[k] * dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
   ok = ok & (denom > lanes::splat<T>(kTiny));
-  const T s = lanes::select(ok, -stiffness * c / lanes::select(ok, denom, lanes::splat<T>(1)), T{}) * sign;
+  // The reciprocal of denom does not wait for the angle (c): off the critical path.
+  const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
+  const T s = lanes::select(ok, -stiffness * c * inv_denom, T{}) * sign;
   for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * corr[k];
   return ok;
 }
