@@ -9,6 +9,17 @@
 #include "mesh_checks.h"
 
 namespace tb::pbd {
+namespace {
+
+/// inverse_mass, checked to have one entry per vertex before the constraint
+/// batches index it.
+const Eigen::VectorXd& one_per_vertex(const Eigen::VectorXd& inverse_mass, Eigen::Index vertex_count) {
+  if (inverse_mass.size() != vertex_count) throw std::invalid_argument("inverse masses: one per vertex expected");
+  return inverse_mass;
+}
+
+}  // namespace
+
 std::vector<ParameterSpec> parameter_specs() {
   return {
       {"time_step", 0.01, 1e-6, 1.0, "time step per frame, s"},
@@ -99,12 +110,11 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
       p_(rest.V.rows()),
-      w_(inverse_mass),
+      w_(one_per_vertex(inverse_mass, rest.V.rows())),
       c_(build_constraints(rest)),
-      batches_(c_, inverse_mass),
+      batches_(c_, w_),
       isa_(best_instruction_set()),
       s_(settings) {
-  if (w_.size() != rest.V.rows()) throw std::invalid_argument("inverse masses: one per vertex expected");
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;

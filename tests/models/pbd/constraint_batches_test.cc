@@ -142,6 +142,13 @@ TEST(ConstraintBatches, ConstraintOnAVertexWithoutInverseMassIsAnError) {
   const DisturbedCube cube;
   const Eigen::VectorXd too_few = cube.inverse_mass.head(10);
   EXPECT_THROW(ConstraintBatches(cube.constraints, too_few), std::invalid_argument);
+  // The solver names the problem before the batches see it.
+  try {
+    Solver(cube.surface, too_few, Settings{});
+    ADD_FAILURE() << "no error for 10 inverse masses on " << cube.surface.V.rows() << " vertices";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "inverse masses: one per vertex expected");
+  }
 }
 
 }  // namespace
