@@ -15,15 +15,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import results_index  # noqa: E402
-import tables  # noqa: E402
+from table_io import fmt, write_table  # noqa: E402
 
 
 def sweep_rows(exp_dir):
     """One row per scenario, sorted by coarse node count."""
+    exp = results_index.Experiment(exp_dir)
     rows = []
-    for scenario, cases in results_index.load_experiment(exp_dir).items():
+    for scenario, cases in exp.scenarios.items():
         hybrid = cases["hybrid"]
-        m = tables.case_metrics(cases, "hybrid")
+        m = exp.metrics(scenario, "hybrid")
         mesh = hybrid["run"]["mesh"]
         rows.append({"scenario": scenario, "coarse_nodes": mesh["coarse_nodes"], "coarse_tets": mesh["coarse_tets"],
                      "control_points": mesh["control_points"], "median_ms": hybrid["timings"]["step"]["median_ms"],
@@ -33,11 +34,11 @@ def sweep_rows(exp_dir):
 
 def make(exp_dir, out):
     rows = sweep_rows(exp_dir)
-    tables.write_table(
+    write_table(
         os.path.join(out, "tables"), "coarse_sweep",
         ["coarse nodes", "coarse tets", "control points", "r(u_z)", "relative L2", "|u| ratio at load", "median ms"],
-        [[r["coarse_nodes"], r["coarse_tets"], r["control_points"], tables.fmt(r["corr_uz"]),
-          tables.fmt(r["rel_l2"]), tables.fmt(r["load_ratio"]), tables.fmt(r["median_ms"], 2)] for r in rows],
+        [[r["coarse_nodes"], r["coarse_tets"], r["control_points"], fmt(r["corr_uz"]),
+          fmt(r["rel_l2"]), fmt(r["load_ratio"]), fmt(r["median_ms"], 2)] for r in rows],
         "Cube pull, hybrid against fem-direct on the same fine mesh, as the coarse selection target varies "
         "(experiments/coarse_sweep.json). Beyond the paper, which uses one coarse mesh (153 nodes).")
     fig, ax = plt.subplots(figsize=(6, 4))

@@ -1,28 +1,104 @@
-"""Finds the raw results of an experiment: results/<experiment>/<scenario>/<case>/."""
+"""Finds the raw results of an experiment: results/<experiment>/<scenario>/<case>/.
+
+Everything the analysis knows about an experiment comes from these files, never
+from code: experiment.json (written by the runner: the reference case, and each
+scenario's cases in the order the experiment lists them) and each case's
+run.json (model, its description, the parameters it ran with, the resolved
+scenario) and timings.json. A model added to an experiment therefore appears in
+every table and figure without an edit here.
+"""
 import json
 import os
 
+import metrics
+
 
 def load_case(folder):
-    """run.json and timings.json of one case folder, with its path."""
+    """run.json and timings.json of one case folder, with its path and name."""
     with open(os.path.join(folder, "run.json")) as f:
         run = json.load(f)
     with open(os.path.join(folder, "timings.json")) as f:
         timings = json.load(f)
-    return {"folder": folder, "run": run, "timings": timings}
+    return {"folder": folder, "name": os.path.basename(folder), "run": run, "timings": timings}
+
+
+class Experiment:
+    """The results of one experiment.
+
+    name, description, reference (case name or None), root (folder),
+    scenarios: {scenario: {case: case dict}} with cases in the experiment's order.
+    """
+
+    def __init__(self, root):
+        if not os.path.isdir(root):
+            raise FileNotFoundError(f"{root}: no such results folder (run tissuebench first)")
+        self.root = root
+        index_path = os.path.join(root, "experiment.json")
+        index = {}
+        if os.path.isfile(index_path):
+            with open(index_path) as f:
+                index = json.load(f)
+        self.name = index.get("name", os.path.basename(os.path.normpath(root)))
+        self.description = index.get("description", "")
+        self.reference = index.get("reference") or None
+        order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
+        self.scenarios = {}
+        for scenario in sorted(os.listdir(root)):
+            sdir = os.path.join(root, scenario)
+            if not os.path.isdir(sdir):
+                continue
+            found = {c for c in os.listdir(sdir) if os.path.isfile(os.path.join(sdir, c, "run.json"))}
+            if not found:
+                continue
+            listed = [c for c in order.get(scenario, []) if c in found]
+            ordered = listed + sorted(found - set(listed))  # cases the index does not list come last
+            self.scenarios[scenario] = {c: load_case(os.path.join(sdir, c)) for c in ordered}
+
+    def scenario(self, name):
+        if name not in self.scenarios:
+            raise FileNotFoundError(f"{self.root}/{name}: missing scenario results")
+        return self.scenarios[name]
+
+    def case_names(self, scenario_names):
+        """Case names present in every one of the scenarios, in the first one's order."""
+        names = list(self.scenario(scenario_names[0]))
+        return [n for n in names if all(n in self.scenario(s) for s in scenario_names[1:])]
+
+    def compared_cases(self, scenario_names):
+        """The cases compared with the reference: every case but the reference."""
+        return [c for c in self.case_names(scenario_names) if c != self.require_reference()]
+
+    def require_reference(self):
+        if not self.reference:
+            raise ValueError(f"{self.root}/experiment.json: no reference case declared "
+                             "(add \"reference\": \"<case>\" to the experiment file)")
+        return self.reference
+
+    def metrics(self, scenario, case, observed="top_surface.csv", reference=None):
+        """metrics.compare of `case` against the reference case of `scenario`."""
+        cases = self.scenario(scenario)
+        ref_name = reference or self.require_reference()
+        if ref_name not in cases:
+            raise FileNotFoundError(f"{self.root}/{scenario}/{ref_name}: missing reference results")
+        return case_metrics(cases[case], cases[ref_name], observed)
+
+
+def load_point(case):
+    """The load point a case ran with (resolved scenario in run.json)."""
+    run = case["run"]
+    scenario = run.get("scenario_resolved") or run.get("scenario_as_read")  # the latter: results before 2026-11
+    return scenario["load"]["point"]
+
+
+def case_metrics(case, reference_case, observed="top_surface.csv"):
+    """metrics.compare of one case's displacements against another's, same vertices."""
+    _, rest, u_ref = metrics.read_displacements(os.path.join(reference_case["folder"], observed))
+    _, rest2, u = metrics.read_displacements(os.path.join(case["folder"], observed))
+    if rest.shape != rest2.shape or not (rest == rest2).all():
+        raise ValueError(f"{case['folder']}: observed vertices differ from {reference_case['folder']}'s")
+    return metrics.compare(u, u_ref, rest, load_point(case))
 
 
 def load_experiment(root):
-    """{scenario: {case: case}} for every case folder holding a run.json."""
-    out = {}
-    if not os.path.isdir(root):
-        raise FileNotFoundError(f"{root}: no such results folder (run tissuebench first)")
-    for scenario in sorted(os.listdir(root)):
-        sdir = os.path.join(root, scenario)
-        if not os.path.isdir(sdir):
-            continue
-        for case in sorted(os.listdir(sdir)):
-            cdir = os.path.join(sdir, case)
-            if os.path.isfile(os.path.join(cdir, "run.json")):
-                out.setdefault(scenario, {})[case] = load_case(cdir)
-    return out
+    """Experiment(root); kept for the scripts that index it as {scenario: {case: case}}."""
+    return Experiment(root).scenarios

@@ -8,6 +8,8 @@
 #include <string>
 #include <thread>
 
+#include "compile_flags.h"
+
 namespace tb {
 
 nlohmann::json build_and_machine_info() {
@@ -15,7 +17,13 @@ nlohmann::json build_and_machine_info() {
   j["git_commit"] = TB_GIT_COMMIT;
   j["build_type"] = TB_BUILD_TYPE;
   j["compiler"] = std::string("g++ ") + __VERSION__;
-  j["compiler_flags"] = TB_CXX_FLAGS;
+  // What each library was really compiled with (checked against compile_commands.json
+  // by tests/build/test_compile_flags.py).
+  j["compiler_flags"] = {{"tb_meshing", TB_FLAGS_MESHING},
+                         {"tb_models", TB_FLAGS_MODELS},
+                         {"tb_models PBD kernel sources", TB_FLAGS_PBD_KERNELS},
+                         {"tb_fem_assembly (deal.II)", TB_FLAGS_DEAL_II_UNITS},
+                         {"tb_experiments", TB_FLAGS_EXPERIMENTS}};
   std::ifstream cpu("/proc/cpuinfo");
   std::string line;
   while (std::getline(cpu, line))

@@ -23,6 +23,39 @@ namespace tb {
 
 namespace fs = std::filesystem;
 
+namespace {
+const char* control_point_rule_name(ControlPointRule rule) {
+  return rule == ControlPointRule::AllSurfaceVertices ? "all_surface_vertices" : "nearest_to_coarse_surface_nodes";
+}
+}  // namespace
+
+nlohmann::json MeshRecipe::to_json() const {
+  nlohmann::json j;
+  if (kind == Kind::Cube) {
+    j["type"] = "cube";
+    j["side"] = cube.side;
+    j["height"] = cube.height;
+    j["nx"] = cube.nx;
+    j["ny"] = cube.ny;
+    j["nz"] = cube.nz;
+    j["symmetric_fine_volume"] = symmetric_fine_volume;
+  } else {
+    j["type"] = "files";
+    j["surface"] = surface_file;
+    if (!coarse_file.empty()) j["coarse"] = coarse_file;
+    j["unit_scale"] = unit_scale;
+    j["repair_self_intersections"] = repair_self_intersections;
+    j["control_points"] = control_point_rule_name(control_points);
+    j["build_fine_volume"] = build_fine_volume;
+  }
+  j["fine_tetgen"] = {{"radius_edge_ratio", build.fine_tetgen.radius_edge_ratio},
+                      {"max_volume", build.fine_tetgen.max_volume}};
+  j["coarse_selection"] = {{"target_nodes", build.target_coarse_nodes},
+                           {"spacing", build.coarse_spacing},
+                           {"feature_angle_deg", build.feature_angle_deg}};
+  return j;
+}
+
 MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where) {
   StrictObject o(j, where);
   MeshRecipe r;
@@ -30,34 +63,37 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
   auto path = [&](const std::string& p) {
     return fs::path(p).is_absolute() ? p : (fs::path(base_dir) / p).lexically_normal().string();
   };
+  // Every fallback is the default of the field it fills (declared once, in the
+  // structs of mesh_recipe.h, cube_generator.h, tetgen_driver.h, hybrid_builder.h).
   if (type == "cube") {
     r.kind = MeshRecipe::Kind::Cube;
-    r.cube.side = o.number("side", 0.1, 1e-9, 1e9);
-    r.cube.height = o.number("height", 0.1, 1e-9, 1e9);
-    r.cube.nx = o.integer("nx", 10, 1, 1000);
-    r.cube.ny = o.integer("ny", 10, 1, 1000);
-    r.cube.nz = o.integer("nz", 12, 1, 1000);
-    r.symmetric_fine_volume = o.boolean("symmetric_fine_volume", false);
+    r.cube.side = o.number("side", r.cube.side, 1e-9, 1e9);
+    r.cube.height = o.number("height", r.cube.height, 1e-9, 1e9);
+    r.cube.nx = o.integer("nx", r.cube.nx, 1, 1000);
+    r.cube.ny = o.integer("ny", r.cube.ny, 1, 1000);
+    r.cube.nz = o.integer("nz", r.cube.nz, 1, 1000);
+    r.symmetric_fine_volume = o.boolean("symmetric_fine_volume", r.symmetric_fine_volume);
   } else {
     r.kind = MeshRecipe::Kind::Files;
     r.surface_file = path(o.text("surface", std::nullopt));
     if (o.has("coarse")) r.coarse_file = path(o.text("coarse", std::nullopt));
-    r.unit_scale = o.number("unit_scale", 1.0, 1e-12, 1e12);
-    r.repair_self_intersections = o.boolean("repair_self_intersections", false);
-    r.control_points = o.text("control_points", "nearest_to_coarse_surface_nodes",
+    r.unit_scale = o.number("unit_scale", r.unit_scale, 1e-12, 1e12);
+    r.repair_self_intersections = o.boolean("repair_self_intersections", r.repair_self_intersections);
+    r.control_points = o.text("control_points", control_point_rule_name(r.control_points),
                               {"nearest_to_coarse_surface_nodes", "all_surface_vertices"}) == "all_surface_vertices"
                            ? ControlPointRule::AllSurfaceVertices
                            : ControlPointRule::NearestToCoarseSurfaceNodes;
-    r.build_fine_volume = o.boolean("build_fine_volume", true);
+    r.build_fine_volume = o.boolean("build_fine_volume", r.build_fine_volume);
   }
   StrictObject fine = o.object("fine_tetgen", true);
-  r.build.fine_tetgen.radius_edge_ratio = fine.number("radius_edge_ratio", 1.414, 0, 100);
-  r.build.fine_tetgen.max_volume = fine.number("max_volume", 0, 0, 1e9);
+  r.build.fine_tetgen.radius_edge_ratio =
+      fine.number("radius_edge_ratio", r.build.fine_tetgen.radius_edge_ratio, 0, 100);
+  r.build.fine_tetgen.max_volume = fine.number("max_volume", r.build.fine_tetgen.max_volume, 0, 1e9);
   fine.finish();
   StrictObject coarse = o.object("coarse_selection", true);
-  r.build.target_coarse_nodes = coarse.integer("target_nodes", 150, 4, 10000000);
-  r.build.coarse_spacing = coarse.number("spacing", 0, 0, 1e9);
-  r.build.feature_angle_deg = coarse.number("feature_angle_deg", 30, 0, 180);
+  r.build.target_coarse_nodes = coarse.integer("target_nodes", r.build.target_coarse_nodes, 4, 10000000);
+  r.build.coarse_spacing = coarse.number("spacing", r.build.coarse_spacing, 0, 1e9);
+  r.build.feature_angle_deg = coarse.number("feature_angle_deg", r.build.feature_angle_deg, 0, 180);
   coarse.finish();
   o.finish();
   return r;
@@ -151,7 +187,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-1";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-2";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);
@@ -186,12 +222,13 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
 }  // namespace
 
 std::string mesh_content_hash(const MeshRecipe& r) {
+  // The recipe's values without its file names (a moved file is the same mesh),
+  // then the files' bytes.
+  nlohmann::json values = r.to_json();
+  values.erase("surface");
+  values.erase("coarse");
   std::ostringstream key;
-  key << std::setprecision(17) << kCacheFormat << '|' << static_cast<int>(r.kind) << '|' << r.cube.side << ','
-      << r.cube.height << ',' << r.cube.nx << ',' << r.cube.ny << ',' << r.cube.nz << ',' << r.symmetric_fine_volume
-      << '|' << r.unit_scale << '|' << r.repair_self_intersections << '|' << static_cast<int>(r.control_points) << '|'
-      << r.build_fine_volume << '|' << r.build.fine_tetgen.radius_edge_ratio << ',' << r.build.fine_tetgen.max_volume
-      << '|' << r.build.target_coarse_nodes << ',' << r.build.coarse_spacing << ',' << r.build.feature_angle_deg << '|';
+  key << kCacheFormat << '|' << values.dump();
   uint64_t h = fnv1a(key.str());
   for (const std::string& f : {r.surface_file, r.coarse_file})
     if (!f.empty()) h = fnv1a(read_file(f), fnv1a("|file|", h));  // contents, not names

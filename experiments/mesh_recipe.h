@@ -25,6 +25,9 @@ struct MeshRecipe {
   ControlPointRule control_points = ControlPointRule::NearestToCoarseSurfaceNodes;
   HybridBuildOptions build;       ///< fine TetGen bounds, coarse target
   bool build_fine_volume = true;  ///< Files + coarse: also mesh the fine volume (FEM reference)
+
+  /// Every value, defaults included, in the scenario file's schema (run.json).
+  nlohmann::json to_json() const;
 };
 
 /// What building reported, written to summary.json / run.json.

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -139,7 +140,9 @@ void move_into_place(const fs::path& staging, const fs::path& dir) {
 
 CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& mesh, const nlohmann::json& mesh_summary,
                      const std::string& experiment, const RunOptions& opt, Progress& progress) {
-  CaseOutcome out{s.name, run.case_name};
+  CaseOutcome out;
+  out.scenario = s.name;
+  out.case_name = run.case_name;
   const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
   Problem problem{&mesh, s.material, s.support, run.parameters};
@@ -149,8 +152,26 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   model->setup(problem);
   const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
+  // Outputs are staged in a temporary folder and moved into place at the end.
+  const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
+  const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
+  remove_stale_staging(dir);
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+
   const Points& rest = mesh.fine_surface.V;
   const double bound = s.divergence_factor * bounding_box_diagonal(rest);
+  // Optional ParaView time series of the surface (scenario "output": "series_every").
+  std::ostringstream series;
+  const bool write_series = info.dynamic && s.series_every > 0;
+  if (write_series) fs::create_directories(staging / "series");
+  auto snapshot = [&](int frame, const Displacements& u) {
+    char name[40];
+    std::snprintf(name, sizeof name, "series/surface_%06d.vtu", frame);
+    write_surface_vtu((staging / name).string(), SurfaceMesh{rest + u, mesh.fine_surface.F},
+                      {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
+    series << "    <DataSet timestep=\"" << frame << "\" file=\"" << name << "\"/>\n";
+  };
   const int budget = info.dynamic ? s.max_frames : std::max(s.static_frames, s.ramp_frames);
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<size_t>(budget));
@@ -179,7 +200,9 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     }
     last_change = (u - previous).rowwise().norm().maxCoeff();
     previous = u;
-    if (info.dynamic && frame + 1 >= s.ramp_frames && last_change <= s.steady_tolerance * max_u) {
+    const bool steady = info.dynamic && frame + 1 >= s.ramp_frames && last_change <= s.steady_tolerance * max_u;
+    if (write_series && (frame % s.series_every == 0 || steady)) snapshot(frame, u);
+    if (steady) {
       out.steady_frame = frame;
       break;
     }
@@ -188,21 +211,24 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   if (!info.dynamic) out.steady_frame = std::max(0, s.ramp_frames - 1);
 
   // ---- output, staged then moved into place ----
-  const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
-  const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
-  remove_stale_staging(dir);
-  fs::remove_all(staging);
-  fs::create_directories(staging);
   const Displacements& u = model->surface_displacement();
+  if (write_series)
+    write_file_atomically((staging / "surface_series.pvd").string(),
+                          "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n" +
+                              series.str() + "  </Collection>\n</VTKFile>\n");
   nlohmann::json j;
   j["experiment"] = experiment;
   j["scenario"] = s.name;
   j["scenario_file"] = s.file;
-  j["scenario_as_read"] = s.source;
+  j["scenario_resolved"] = s.to_json();
+  if (!s.sweep_base.empty()) j["sweep"] = {{"base", s.sweep_base}, {"values", s.sweep_values}, {"keys", s.sweep_keys}};
   j["case"] = run.case_name;
   j["model"] = run.model;
   j["dynamic"] = info.dynamic;
-  j["parameters"] = run.parameters.to_json();
+  j["model_description"] = info.description;
+  j["parameters"] = run.parameters.to_json();  // every declared parameter, defaults included
+  j["parameters_given"] = run.parameters_given;
+  j["model_report"] = model->report();
   j["frames"] = out.frames;
   j["steady_frame"] = out.steady_frame;
   j["reached_steady_state"] = !info.dynamic || out.steady_frame >= 0;
@@ -255,9 +281,12 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   };
   std::map<std::string, BuiltMesh> meshes;
   std::vector<CaseOutcome> outcomes;
+  // What the analysis reads to know the cases, their order and the reference.
+  fs::create_directories(fs::path(opt.out_dir) / e.name);
+  write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
   for (const Scenario& s : e.scenarios) {
-    // The same recipe (same JSON, same folder) builds the same mesh: build it once.
-    const std::string key = fs::path(s.file).parent_path().string() + "|" + s.source.at("mesh").dump();
+    // The same resolved recipe (file paths absolute) builds the same mesh: build it once.
+    const std::string key = s.mesh.to_json().dump();
     std::shared_ptr<HybridMesh> mesh;
     nlohmann::json summary;
     try {
@@ -280,13 +309,21 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       // The meshes as built, for ParaView and figure 1.
       write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
     } catch (const std::exception& ex) {
-      for (const ModelRun& run : s.models) outcomes.push_back({s.name, run.case_name, false, ex.what()});
+      for (const ModelRun& run : s.models) {
+        CaseOutcome failed;
+        failed.scenario = s.name;
+        failed.case_name = run.case_name;
+        failed.error = ex.what();
+        outcomes.push_back(failed);
+      }
       progress.line(s.name + ": FAILED building meshes: " + ex.what());
       continue;
     }
     for (const ModelRun& run : s.models) {
       if (!opt.only_case.empty() && opt.only_case != run.case_name && opt.only_case != run.model) continue;
-      CaseOutcome o{s.name, run.case_name};
+      CaseOutcome o;
+      o.scenario = s.name;
+      o.case_name = run.case_name;
       try {
         o = run_case(s, run, *mesh, summary, e.name, opt, progress);
         progress.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +

@@ -4,9 +4,51 @@
 #include <fstream>
 
 #include "strict_json.h"
+#include "sweep.h"
 
 namespace tb {
 namespace fs = std::filesystem;
+
+namespace {
+nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+}  // namespace
+
+nlohmann::json Experiment::to_json() const {
+  nlohmann::json j;
+  j["name"] = name;
+  j["description"] = description;
+  j["reference"] = reference;
+  j["scenarios"] = nlohmann::json::array();
+  for (const Scenario& s : scenarios) {
+    nlohmann::json cases = nlohmann::json::array();
+    for (const ModelRun& run : s.models) cases.push_back(run.case_name);
+    nlohmann::json entry = {{"name", s.name}, {"file", s.file}, {"cases", cases}};
+    if (!s.sweep_base.empty())
+      entry["sweep"] = {{"base", s.sweep_base}, {"values", s.sweep_values}, {"keys", s.sweep_keys}};
+    j["scenarios"].push_back(entry);
+  }
+  return j;
+}
+
+nlohmann::json Scenario::to_json() const {
+  nlohmann::json j;
+  j["name"] = name;
+  j["description"] = description;
+  j["file"] = file;
+  j["mesh"] = mesh.to_json();
+  j["material"] = {{"youngs_modulus", material.youngs_modulus},
+                   {"poisson_ratio", material.poisson_ratio},
+                   {"density", material.density}};
+  j["support"] = {{"min", vec(support.min)}, {"max", vec(support.max)}};
+  j["load"] = {{"point", vec(load.point)}, {"force", vec(load.force)}, {"ramp_frames", ramp_frames}};
+  j["frames"] = {{"max", max_frames},
+                 {"static", static_frames},
+                 {"steady_tolerance", steady_tolerance},
+                 {"divergence_factor", divergence_factor}};
+  j["observe"] = {{"vertices", observed}, {"top_tolerance", top_tolerance}};
+  j["output"] = {{"series_every", series_every}};
+  return j;
+}
 
 PointLoad Scenario::load_at(int frame) const {
   PointLoad l = load;
@@ -32,17 +74,18 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   StrictObject o(j, where);
   Scenario s;
   s.file = file;
-  s.source = j;
   s.name = o.text("name", std::nullopt);
   if (s.name.empty() || s.name.find('/') != std::string::npos) o.fail("name", "must be a non-empty folder name");
-  o.text("description", "");
+  s.description = o.text("description", "");
   s.mesh = parse_mesh_recipe(o.raw("mesh"), base, where + ".mesh");
 
   StrictObject m = o.object("material", true);
-  s.material.youngs_modulus = m.number("youngs_modulus", 3000, 1e-12, 1e15);
+  // Fallbacks are the defaults of the fields they fill (Material in models/model.h,
+  // Scenario in scenario.h): each default is stated once.
+  s.material.youngs_modulus = m.number("youngs_modulus", s.material.youngs_modulus, 1e-12, 1e15);
   if (s.material.youngs_modulus <= 0) m.fail("youngs_modulus", "must be positive");
-  s.material.poisson_ratio = m.number("poisson_ratio", 0.45, -0.999, 0.4999);
-  s.material.density = m.number("density", 1000, 1e-12, 1e9);
+  s.material.poisson_ratio = m.number("poisson_ratio", s.material.poisson_ratio, -0.999, 0.4999);
+  s.material.density = m.number("density", s.material.density, 1e-12, 1e9);
   m.finish();
 
   StrictObject sup = o.object("support");
@@ -54,20 +97,24 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   StrictObject l = o.object("load");
   s.load.point = l.vec3("point", std::nullopt);
   s.load.force = l.vec3("force", std::nullopt);
-  s.ramp_frames = l.integer("ramp_frames", 0, 0, 1000000);
+  s.ramp_frames = l.integer("ramp_frames", s.ramp_frames, 0, 1000000);
   l.finish();
 
   StrictObject f = o.object("frames", true);
-  s.max_frames = f.integer("max", 2000, 1, 100000000);
-  s.static_frames = f.integer("static", 20, 1, 1000000);
-  s.steady_tolerance = f.number("steady_tolerance", 1e-6, 0, 1);
-  s.divergence_factor = f.number("divergence_factor", 10, 1e-6, 1e9);
+  s.max_frames = f.integer("max", s.max_frames, 1, 100000000);
+  s.static_frames = f.integer("static", s.static_frames, 1, 1000000);
+  s.steady_tolerance = f.number("steady_tolerance", s.steady_tolerance, 0, 1);
+  s.divergence_factor = f.number("divergence_factor", s.divergence_factor, 1e-6, 1e9);
   f.finish();
 
   StrictObject obs = o.object("observe", true);
-  s.observed = obs.text("vertices", "top", {"top", "all"});
-  s.top_tolerance = obs.number("top_tolerance", 1e-9, 0, 1e9);
+  s.observed = obs.text("vertices", s.observed, {"top", "all"});
+  s.top_tolerance = obs.number("top_tolerance", s.top_tolerance, 0, 1e9);
   obs.finish();
+
+  StrictObject out = o.object("output", true);
+  s.series_every = out.integer("series_every", s.series_every, 0, 100000000);
+  out.finish();
 
   const nlohmann::json& models = o.raw("models");
   if (!models.is_array() || models.empty()) o.fail("models", "must be a non-empty array");
@@ -83,7 +130,9 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
       mo.fail("model", e.what());
     }
     try {
-      run.parameters = resolve_parameters(info->parameters, mo.raw("parameters"), mo.where() + ".parameters");
+      run.parameters_given = mo.raw("parameters");
+      if (run.parameters_given.is_null()) run.parameters_given = nlohmann::json::object();
+      run.parameters = resolve_parameters(info->parameters, run.parameters_given, mo.where() + ".parameters");
     } catch (const std::invalid_argument& e) {
       throw ScenarioError(e.what());
     }
@@ -104,20 +153,58 @@ Experiment load_experiment(const std::string& path) {
   if (j.is_object() && j.contains("scenarios")) {
     StrictObject o(j, fs::path(path).filename().string());
     e.name = o.text("name", std::nullopt);
-    o.text("description", "");
+    e.description = o.text("description", "");
+    e.reference = o.text("reference", "");
     const nlohmann::json& list = o.raw("scenarios");
     if (!list.is_array() || list.empty()) o.fail("scenarios", "must be a non-empty array of scenario file paths");
+    const nlohmann::json& sweep = o.raw("sweep");
     o.finish();
     for (const auto& item : list) {
       if (!item.is_string()) o.fail("scenarios", "entries must be file paths (strings)");
       const std::string file = (fs::path(path).parent_path() / item.get<std::string>()).lexically_normal().string();
-      e.scenarios.push_back(parse_scenario(read_json(file), file));
+      const nlohmann::json base = read_json(file);
+      if (sweep.is_null()) {
+        e.scenarios.push_back(parse_scenario(base, file));
+        continue;
+      }
+      // Each base scenario expanded into the sweep's points (sweep.h).
+      const std::string base_name = base.is_object() && base.contains("name") && base["name"].is_string()
+                                        ? base["name"].get<std::string>()
+                                        : fs::path(file).stem().string();
+      for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, fs::path(path).filename().string())) {
+        Scenario s = parse_scenario(point.scenario, file);
+        s.sweep_base = base_name;
+        s.sweep_values = std::move(point.values);
+        s.sweep_keys = std::move(point.keys);
+        e.scenarios.push_back(std::move(s));
+      }
     }
+    for (size_t i = 0; i < e.scenarios.size(); ++i)
+      for (size_t k = 0; k < i; ++k)
+        if (e.scenarios[i].name == e.scenarios[k].name)
+          o.fail("scenarios", "two scenarios are named '" + e.scenarios[i].name + "'");
   } else {
-    Scenario s = parse_scenario(j, path);
+    // A scenario file run alone is an experiment of one scenario; it may name its
+    // reference case too.
+    nlohmann::json scenario = j;
+    if (scenario.is_object() && scenario.contains("reference")) {
+      if (!scenario["reference"].is_string())
+        throw ScenarioError(fs::path(path).filename().string() + ": reference: must be a case name (string)");
+      e.reference = scenario["reference"].get<std::string>();
+      scenario.erase("reference");
+    }
+    Scenario s = parse_scenario(scenario, path);
     e.name = s.name;
+    e.description = s.description;
     e.scenarios.push_back(std::move(s));
   }
+  if (!e.reference.empty())
+    for (const Scenario& s : e.scenarios) {
+      bool found = false;
+      for (const ModelRun& run : s.models) found = found || run.case_name == e.reference;
+      if (!found)
+        throw ScenarioError(path + ": reference: scenario '" + s.name + "' has no case named '" + e.reference + "'");
+    }
   return e;
 }
 

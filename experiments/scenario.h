@@ -16,13 +16,14 @@ namespace tb {
 struct ModelRun {
   std::string case_name;
   std::string model;
-  Parameters parameters;
+  Parameters parameters;            ///< every declared parameter, resolved
+  nlohmann::json parameters_given;  ///< the ones the scenario set (an object)
 };
 
 struct Scenario {
   std::string name;
+  std::string description;
   std::string file;
-  nlohmann::json source;  ///< the scenario as read, written beside every result
   MeshRecipe mesh;
   Material material;
   SupportBox support;
@@ -33,16 +34,33 @@ struct Scenario {
   double steady_tolerance = 1e-6;  ///< max per-frame change / max displacement
   double divergence_factor = 10;   ///< |u| beyond this x bounding-box diagonal: diverged
   std::string observed = "top";    ///< "top": vertices on the top plane; "all"
+  int series_every = 0;            ///< > 0: a dynamic case writes its surface every N frames (.pvd + .vtu)
   double top_tolerance = 1e-9;     ///< m
   std::vector<ModelRun> models;
+  /// Set when the scenario is a point of a sweep (sweep.h): its base scenario's
+  /// name, and {label: value} / {label: key path} of the factors set.
+  std::string sweep_base;
+  nlohmann::json sweep_values = nlohmann::json::object(), sweep_keys = nlohmann::json::object();
 
   /// The load of frame `frame` (0-based): ramped, then constant.
   PointLoad load_at(int frame) const;
+  /// Every value as resolved, defaults included (run.json "scenario_resolved");
+  /// the model list is not included (each run.json holds its own model).
+  nlohmann::json to_json() const;
 };
 
 struct Experiment {
   std::string name;
+  std::string description;
+  /// The case every other is compared with by the analysis (e.g. "fem-direct");
+  /// empty: none declared.
+  std::string reference;
   std::vector<Scenario> scenarios;
+
+  /// What the analysis needs to know of the experiment (written as
+  /// results/<name>/experiment.json): name, description, reference, and per
+  /// scenario its cases in the order the file lists them.
+  nlohmann::json to_json() const;
 };
 
 /// Reads a scenario file, or an experiment file ({"name", "scenarios": [paths]}).

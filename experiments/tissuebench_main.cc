@@ -4,7 +4,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "elastic_solver.h"
+#include "build_info.h"
+#include "elastic_body.h"
 #include "mesh_recipe.h"
 #include "model.h"
 #include "runner.h"
@@ -17,7 +18,7 @@ int command_models() {
     std::cout << m.name << (m.dynamic ? " (dynamic)" : " (static)") << ": " << m.description << "\n";
     for (const auto& p : m.parameters) {
       std::cout << "  " << p.name << " = ";
-      if (p.choices.empty())
+      if (!p.is_choice())
         std::cout << p.default_number << " in [" << p.min << ", " << p.max << "]";
       else {
         std::cout << p.default_choice << " (one of";
@@ -66,11 +67,16 @@ int main(int argc, char** argv) {
   mesh->add_option("--out", mesh_out, "output folder")->required();
 
   app.add_subcommand("models", "List the registered models and their parameters");
+  app.add_subcommand("build-info", "Print the build (commit, compiler, flags of each library) and machine as JSON");
 
   CLI11_PARSE(app, argc, argv);
   tb::use_one_thread();  // every reported time is single-threaded
   try {
     if (app.got_subcommand("models")) return command_models();
+    if (app.got_subcommand("build-info")) {
+      std::cout << tb::build_and_machine_info().dump(2) << "\n";
+      return 0;
+    }
     if (run->parsed()) {
       const tb::Experiment e = tb::load_experiment(scenario_file);
       tb::RunOptions opt;

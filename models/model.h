@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,10 @@ class Model {
   virtual const Displacements& surface_displacement() const = 0;
   /// Solver iterations in the last step, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
+  /// Facts about how the model set itself up and maps the load (strategies chosen,
+  /// factor sizes, how far the load point was from the mesh it was mapped into),
+  /// written into run.json beside the parameters. Called after step().
+  virtual nlohmann::json report() const { return nlohmann::json::object(); }
 };
 
 /// A registered model: its name, what it is, its parameters and how to make one.

@@ -1,10 +1,43 @@
 #include "parameters.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace tb {
+
+ParameterSpec ParameterSpec::number(std::string name, double default_value, double min, double max,
+                                    std::string description) {
+  if (!(min <= default_value && default_value <= max))
+    throw std::logic_error("parameter '" + name + "': default outside its range");
+  ParameterSpec s;
+  s.name = std::move(name);
+  s.description = std::move(description);
+  s.default_number = default_value;
+  s.min = min;
+  s.max = max;
+  return s;
+}
+
+ParameterSpec ParameterSpec::whole_number(std::string name, int default_value, int min, int max,
+                                          std::string description) {
+  ParameterSpec s = number(std::move(name), default_value, min, max, std::move(description));
+  s.integer = true;
+  return s;
+}
+
+ParameterSpec ParameterSpec::choice(std::string name, std::vector<std::string> choices, std::string default_choice,
+                                    std::string description) {
+  if (std::find(choices.begin(), choices.end(), default_choice) == choices.end())
+    throw std::logic_error("parameter '" + name + "': default is not one of its choices");
+  ParameterSpec s;
+  s.name = std::move(name);
+  s.description = std::move(description);
+  s.choices = std::move(choices);
+  s.default_choice = std::move(default_choice);
+  return s;
+}
 
 double Parameters::number(const std::string& name) const {
   auto it = numbers_.find(name);
@@ -30,7 +63,7 @@ Parameters resolve_parameters(const std::vector<ParameterSpec>& specs, const nlo
   if (!given.is_null() && !given.is_object()) throw std::invalid_argument(where + ": must be an object");
   Parameters p;
   for (const auto& s : specs) {
-    if (s.choices.empty())
+    if (!s.is_choice())
       p.set_number(s.name, s.default_number);
     else
       p.set_choice(s.name, s.default_choice);
@@ -45,7 +78,7 @@ Parameters resolve_parameters(const std::vector<ParameterSpec>& specs, const nlo
       for (const auto& s : specs) known << (&s == &specs.front() ? "" : ", ") << s.name;
       throw std::invalid_argument(where + ": unknown parameter '" + key + "' (known: " + known.str() + ")");
     }
-    if (!spec->choices.empty()) {
+    if (spec->is_choice()) {
       if (!value.is_string()) throw std::invalid_argument(where + "." + key + ": must be a string");
       const std::string v = value.get<std::string>();
       bool ok = false;

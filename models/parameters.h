@@ -10,16 +10,25 @@
 
 namespace tb {
 
-/// One parameter: a number in [min, max] or, when `choices` is non-empty, a string
-/// that must be one of them.
+/// One parameter: a number in [min, max] (an integer when `integer`) or, when
+/// `choices` is non-empty, a string that must be one of them. Build one with the
+/// named functions below, so every field is said by name:
+///   ParameterSpec::number("time_step", 0.01, 1e-6, 1.0, "time step per frame, s")
+///   ParameterSpec::choice("solver", {"direct", "iterative"}, "direct", "...")
 struct ParameterSpec {
   std::string name;
+  std::string description;
   double default_number = 0;
   double min = 0, max = 0;
-  std::string description;
-  std::vector<std::string> choices = {};
-  std::string default_choice = {};
   bool integer = false;
+  std::vector<std::string> choices;
+  std::string default_choice;
+
+  static ParameterSpec number(std::string name, double default_value, double min, double max, std::string description);
+  static ParameterSpec whole_number(std::string name, int default_value, int min, int max, std::string description);
+  static ParameterSpec choice(std::string name, std::vector<std::string> choices, std::string default_choice,
+                              std::string description);
+  bool is_choice() const { return !choices.empty(); }
 };
 
 /// A fully resolved parameter set: every declared parameter has a value.

@@ -3,6 +3,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "condensed/condensed_model.h"
+#include "embedded/embedded_model.h"
 #include "fem/fem_model.h"
 #include "hybrid/hybrid_model.h"
 #include "model.h"
@@ -12,9 +14,7 @@ namespace tb {
 
 const std::vector<ModelInfo>& registered_models() {
   static const std::vector<ModelInfo> models = {
-      fem_model_info(),
-      pbd_model_info(),
-      hybrid_model_info(),
+      fem_model_info(), pbd_model_info(), hybrid_model_info(), condensed_model_info(), embedded_model_info(),
   };
   return models;
 }

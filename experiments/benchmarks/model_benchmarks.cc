@@ -8,8 +8,10 @@
 #include <memory>
 
 #include "cube_generator.h"
-#include "elastic_solver.h"
+#include "elastic_body.h"
+#include "elastic_solve.h"
 #include "hybrid_builder.h"
+#include "load_mapping.h"
 #include "mesh_recipe.h"
 #include "model.h"
 #include "pbd_solver.h"
@@ -66,22 +68,30 @@ const HybridMesh& surface_only_cube(int n) {
   return *m;
 }
 
-/// The fine-mesh solver of benchmark argument "solver": 0 direct, 1 CG with
-/// incomplete Cholesky, 2 CG with the two-level preconditioner on the cube's coarse
-/// (hybrid) mesh.
-std::unique_ptr<ElasticSolver> fine_solver(const HybridMesh& h, int64_t solver) {
-  return std::make_unique<ElasticSolver>(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V),
-                                         solver == 0 ? SolveMode::Direct : SolveMode::Iterative, 1e-8,
-                                         solver == 2 ? &h.coarse_volume : nullptr);
+/// The fine-mesh body and the solve of benchmark argument "solver": 0 direct,
+/// 1 CG with incomplete Cholesky, 2 CG with the two-level preconditioner on the
+/// cube's coarse (hybrid) mesh.
+struct FineSolver {
+  std::unique_ptr<ElasticBody> body;
+  std::unique_ptr<ElasticSolve> solve;
+};
+FineSolver fine_solver(const HybridMesh& h, int64_t solver) {
+  FineSolver f;
+  f.body = std::make_unique<ElasticBody>(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V));
+  ElasticSolveOptions o;
+  o.preconditioner = solver == 2 ? "two_level" : "ic";
+  o.coarse_space = &h.coarse_volume;
+  f.solve = make_elastic_solve(solver == 0 ? "direct" : "iterative", *f.body, o);
+  return f;
 }
 
 void BM_FemSetup(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
   double factor_nonzeros = 0;
   for (auto _ : state) {
-    auto solver = fine_solver(h, state.range(1));
-    factor_nonzeros = solver->factor_nonzeros();
-    benchmark::DoNotOptimize(solver.get());
+    FineSolver solver = fine_solver(h, state.range(1));
+    factor_nonzeros = solver.solve->report().value("factor_nonzeros", 0.0);
+    benchmark::DoNotOptimize(solver.solve.get());
   }
   if (factor_nonzeros > 0) state.counters["factor_MiB"] = factor_nonzeros * 8 / (1024.0 * 1024.0);
   state.counters["dofs"] = static_cast<double>(3 * h.fine_volume.V.rows());
@@ -90,9 +100,9 @@ void BM_FemSetup(benchmark::State& state) {
 
 void BM_FemFrame(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
-  auto solver_ptr = fine_solver(h, state.range(1));
-  ElasticSolver& solver = *solver_ptr;
-  const LoadStencil s = solver.locate_load(kCubeLoad.point);
+  FineSolver fine = fine_solver(h, state.range(1));
+  ElasticSolve& solver = *fine.solve;
+  const LoadStencil s = containing_tet(h.fine_volume, kCubeLoad.point, "fine volume");
   Eigen::VectorXd u;
   solver.solve(s, kCubeLoad.force, u);
   // The load changes every frame (a ramp), so a warm-started CG has work to do.
@@ -141,7 +151,7 @@ void BM_PbdFrameInstructionSet(benchmark::State& state) {
   const SurfaceMesh& s = cube_mesh(1).fine_surface;
   pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), pbd::Settings{});
   solver.use_instruction_set(isa);
-  const int load_vertex = pbd::nearest_vertex(s.V, kCubeLoad.point);
+  const int load_vertex = nearest_vertex(s.V, kCubeLoad.point).nodes(0);
   const Points no_pins;
   for (int f = 0; f < 200; ++f) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
   for (auto _ : state) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
@@ -151,10 +161,11 @@ void BM_PbdFrameInstructionSet(benchmark::State& state) {
 /// The coarse FEM inside the hybrid alone: back-substitution on the coarse mesh.
 void BM_HybridCoarseSolve(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(1);
-  ElasticSolver coarse(h.coarse_volume, Material{}, kCubeBottom.select(h.coarse_volume.V), SolveMode::Direct);
-  const LoadStencil s = coarse.locate_load(kCubeLoad.point);
+  const ElasticBody body(h.coarse_volume, Material{}, kCubeBottom.select(h.coarse_volume.V));
+  auto coarse = make_elastic_solve("direct", body, {});
+  const LoadStencil s = containing_tet(h.coarse_volume, kCubeLoad.point, "coarse volume");
   Eigen::VectorXd u;
-  for (auto _ : state) coarse.solve(s, kCubeLoad.force, u);
+  for (auto _ : state) coarse->solve(s, kCubeLoad.force, u);
   state.counters["dofs"] = static_cast<double>(3 * h.coarse_volume.V.rows());
 }
 

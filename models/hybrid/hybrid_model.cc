@@ -2,8 +2,12 @@
 
 #include <stdexcept>
 
-#include "elastic_solver.h"
+#include "coarse_embedding.h"
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "load_mapping.h"
 #include "pbd_solver.h"
+#include "precomputed_response.h"
 
 namespace tb {
 namespace {
@@ -14,11 +18,30 @@ class HybridModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.coarse_volume.T.rows() == 0) throw std::invalid_argument("hybrid: the scenario provides no coarse volume");
     if (h.control_points.empty()) throw std::invalid_argument("hybrid: the hybrid mesh has no control points");
-    // Step 1 (initialisation): coarse K assembled and factorised once.
-    coarse_ = std::make_unique<ElasticSolver>(h.coarse_volume, p.material, p.support.select(h.coarse_volume.V),
-                                              SolveMode::Direct);
-    coarse_u_ = Eigen::VectorXd::Zero(3 * h.coarse_volume.V.rows());
+    // Step 1 (initialisation): coarse K assembled once, and the strategy that
+    // solves it each frame (parameter coarse_solver; direct: factorised here).
+    // The ablation control_points = exact_fine_fem places the control points at
+    // the fine FEM's solution instead (the fine stiffness condensed on them).
+    exact_control_points_ = p.parameters.choice("control_points") == "exact_fine_fem";
+    try {
+      if (exact_control_points_) {
+        if (h.fine_volume.T.rows() == 0)
+          throw std::invalid_argument("control_points exact_fine_fem needs the scenario's fine volume mesh");
+        fine_body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.select(h.fine_volume.V));
+        std::vector<int> control_nodes;
+        for (const auto& cp : h.control_points)
+          control_nodes.push_back(h.fine_surface_to_volume[static_cast<size_t>(cp.surface_vertex)]);
+        exact_ = std::make_unique<PrecomputedResponse>(*fine_body_, control_nodes);
+      } else {
+        coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material, p.support.select(h.coarse_volume.V));
+        coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_", nullptr);
+        coarse_u_ = Eigen::VectorXd::Zero(coarse_body_->dofs());
+      }
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("hybrid: coarse mesh: ") + e.what());
+    }
     control_ = h.control_points;
+    control_u_ = Points::Zero(static_cast<Eigen::Index>(control_.size()), 3);
     const SurfaceMesh& s = h.fine_surface;
     std::vector<char> fixed = p.support.select(s.V);
     pinned_.clear();
@@ -34,40 +57,54 @@ class HybridModel : public Model {
   }
 
   void step(const PointLoad& load) override {
-    if (load_vertex_ < 0 || load.point != load_point_) {
-      stencil_ = coarse_->locate_load(load.point);
-      load_vertex_ = pbd::nearest_vertex(solver_->rest_positions(), load.point);
-      load_point_ = load.point;
+    const int load_vertex =
+        surface_load_
+            .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
+            .nodes(0);
+    // Step 2: the control points' displacement: coarse K u = f (eq. 11)
+    // interpolated at their weights (eq. 33), or the fine FEM's in the ablation.
+    if (exact_) {
+      const LoadStencil& fine_load = fine_load_.get(
+          load.point, [&](const Eigen::Vector3d& x) { return containing_tet(fine_body_->mesh(), x, "fine volume"); });
+      exact_->apply(fine_load, load.force, control_u_);
+    } else {
+      const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
+        return containing_tet(coarse_body_->mesh(), x, "coarse volume");
+      });
+      coarse_->solve(coarse_load, load.force, coarse_u_);
+      interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
     }
-    // Step 2: coarse K u = f (eq. 11), control points' deformed positions p'_i.
-    coarse_->solve(stencil_, load.force, coarse_u_);
     const Points& rest = solver_->rest_positions();
-    const auto& T = coarse_->mesh().T;
-    for (size_t k = 0; k < control_.size(); ++k) {
-      const ControlPoint& cp = control_[k];
-      Eigen::Vector3d u = Eigen::Vector3d::Zero();
-      for (int j = 0; j < 4; ++j) u += cp.weights(j) * coarse_u_.segment<3>(3 * T(cp.coarse_tet, j));
-      pinned_positions_.row(static_cast<Eigen::Index>(k)) = rest.row(cp.surface_vertex) + u.transpose();
-    }
+    for (size_t k = 0; k < control_.size(); ++k)
+      pinned_positions_.row(static_cast<Eigen::Index>(k)) =
+          rest.row(control_[k].surface_vertex) + control_u_.row(static_cast<Eigen::Index>(k));
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
-    solver_->step(apply_force_to_surface_ ? load_vertex_ : -1, load.force, pinned_, pinned_positions_);
+    solver_->step(apply_force_to_surface_ ? load_vertex : -1, load.force, pinned_, pinned_positions_);
     u_ = solver_->positions() - rest;
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  nlohmann::json report() const override {
+    if (exact_) return {{"control_points", "exact_fine_fem"}, {"fine_nodes_precomputed", exact_->nodes_computed()}};
+    return {{"control_points", "coarse_fem"}, {"coarse_solve", coarse_->report()}};
+  }
 
  private:
-  std::unique_ptr<ElasticSolver> coarse_;
+  bool exact_control_points_ = false;
+  std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only
+  std::unique_ptr<PrecomputedResponse> exact_;  // exact_fine_fem only
+  PerLoadPoint<LoadStencil> fine_load_;         // exact_fine_fem only
+  Points control_u_;                            // #control points by 3
+  std::unique_ptr<ElasticBody> coarse_body_;
+  std::unique_ptr<ElasticSolve> coarse_;
   Eigen::VectorXd coarse_u_;
   std::vector<ControlPoint> control_;
   std::vector<int> pinned_;
   Points pinned_positions_;
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
-  LoadStencil stencil_;
-  int load_vertex_ = -1;
-  Eigen::Vector3d load_point_;
+  PerLoadPoint<LoadStencil> coarse_load_, surface_load_;
   bool apply_force_to_surface_ = true;
 };
 
@@ -75,14 +112,19 @@ class HybridModel : public Model {
 
 ModelInfo hybrid_model_info() {
   std::vector<ParameterSpec> specs = pbd::parameter_specs();
-  specs.push_back({"surface_force",
-                   0,
-                   0,
-                   0,
-                   "nearest_vertex: eq. (31) also applies the load to the nearest free surface vertex, as in the "
-                   "paper's step 2; none: the load acts only through the coarse FEM",
-                   {"nearest_vertex", "none"},
-                   "nearest_vertex"});
+  for (ParameterSpec& s : elastic_solve_parameters("coarse_", "direct", "ic")) {
+    s.description = "coarse mesh: " + s.description;
+    specs.push_back(std::move(s));
+  }
+  specs.push_back(ParameterSpec::choice(
+      "control_points", {"coarse_fem", "exact_fine_fem"}, "coarse_fem",
+      "coarse_fem: the paper's, control points placed by the coarse FEM (eq. 33); exact_fine_fem: an ablation "
+      "beyond the paper, placed at the fine FEM's solution (the fine stiffness condensed on them), which separates "
+      "the coarse mesh's error from PBD's"));
+  specs.push_back(ParameterSpec::choice(
+      "surface_force", {"nearest_vertex", "none"}, "nearest_vertex",
+      "nearest_vertex: eq. (31) also applies the load to the nearest free surface vertex, as in the paper's step 2; "
+      "none: the load acts only through the coarse FEM"));
   return {"hybrid", "Coarse linear FEM pins the fine surface's control points; PBD moves the rest (paper 1.5)", true,
           specs, [] { return std::make_unique<HybridModel>(); }};
 }

@@ -1,5 +1,6 @@
 #include "pbd_model.h"
 
+#include "load_mapping.h"
 #include "pbd_solver.h"
 
 namespace tb {
@@ -15,11 +16,12 @@ class PbdModel : public Model {
   }
 
   void step(const PointLoad& load) override {
-    if (load_vertex_ < 0 || load.point != load_point_) {
-      load_vertex_ = pbd::nearest_vertex(solver_->rest_positions(), load.point);  // DESIGN: nearest surface vertex
-      load_point_ = load.point;
-    }
-    solver_->step(load_vertex_, load.force, no_pins_, no_pin_positions_);
+    // DESIGN: the force acts on the nearest surface vertex (eq. 31).
+    const int load_vertex =
+        load_vertex_
+            .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
+            .nodes(0);
+    solver_->step(load_vertex, load.force, no_pins_, no_pin_positions_);
     u_ = solver_->positions() - solver_->rest_positions();
   }
 
@@ -28,8 +30,7 @@ class PbdModel : public Model {
  private:
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
-  int load_vertex_ = -1;
-  Eigen::Vector3d load_point_;
+  PerLoadPoint<LoadStencil> load_vertex_;
   const std::vector<int> no_pins_;
   const Points no_pin_positions_;
 };

@@ -21,27 +21,18 @@ const Eigen::VectorXd& one_per_vertex(const Eigen::VectorXd& inverse_mass, Eigen
 }  // namespace
 
 std::vector<ParameterSpec> parameter_specs() {
+  using P = ParameterSpec;
   return {
-      {"time_step", 0.01, 1e-6, 1.0, "time step per frame, s"},
-      {"iterations", 10, 1, 1000, "Gauss-Seidel projection sweeps per frame", {}, {}, true},
-      {"stretch_stiffness", 1.0, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"},
-      {"bending_stiffness", 1.0, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"},
-      {"stiffness_correction",
-       0,
-       0,
-       0,
-       "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given",
-       {"mueller2007", "none"},
-       "mueller2007"},
-      {"damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"},
-      {"bending_angle",
-       0,
-       0,
-       0,
-       "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
-       "signed: theta - theta0, smooth there",
-       {"unsigned", "signed"},
-       "unsigned"},
+      P::number("time_step", 0.01, 1e-6, 1.0, "time step per frame, s"),
+      P::whole_number("iterations", 10, 1, 1000, "Gauss-Seidel projection sweeps per frame"),
+      P::number("stretch_stiffness", 1.0, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
+      P::number("bending_stiffness", 1.0, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
+      P::choice("stiffness_correction", {"mueller2007", "none"}, "mueller2007",
+                "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given"),
+      P::number("damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"),
+      P::choice("bending_angle", {"unsigned", "signed"}, "unsigned",
+                "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
+                "signed: theta - theta0, smooth there"),
   };
 }
 
@@ -145,12 +136,6 @@ Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const
   Eigen::VectorXd w(m.size());
   for (Eigen::Index v = 0; v < m.size(); ++v) w(v) = fixed[static_cast<size_t>(v)] ? 0.0 : 1.0 / m(v);
   return w;
-}
-
-int nearest_vertex(const Points& V, const Eigen::Vector3d& p) {
-  Eigen::Index best = 0;
-  (V.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&best);
-  return static_cast<int>(best);
 }
 
 }  // namespace tb::pbd

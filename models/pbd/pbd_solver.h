@@ -87,7 +87,4 @@ namespace tb::pbd {
 ///   fixed  #V flags
 Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const std::vector<char>& fixed);
 
-/// The vertex of V nearest to p (lowest index on ties).
-int nearest_vertex(const Points& V, const Eigen::Vector3d& p);
-
 }  // namespace tb::pbd

@@ -10,7 +10,10 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
 import metrics  # noqa: E402
-import tables  # noqa: E402
+import table1  # noqa: E402
+import table2  # noqa: E402
+import table3  # noqa: E402
+import time_vs_accuracy  # noqa: E402
 
 
 class Metrics(unittest.TestCase):
@@ -46,7 +49,12 @@ class Metrics(unittest.TestCase):
         os.unlink(f.name)
 
 
-def write_case(root, scenario, case, rest, u, median):
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def write_case(root, scenario, case, rest, u, median, model=None):
     d = os.path.join(root, scenario, case)
     os.makedirs(d)
     with open(os.path.join(d, "top_surface.csv"), "w") as f:
@@ -55,38 +63,87 @@ def write_case(root, scenario, case, rest, u, median):
             f.write(f"{i},{p[0]},{p[1]},{p[2]},{q[0]},{q[1]},{q[2]}\n")
     build = {"cpu_model": "test cpu", "hardware_threads": 2, "build_type": "Release", "compiler": "g++",
              "git_commit": "abc"}
-    run = {"scenario_as_read": {"load": {"point": [0, 0, 1]}}, "build": build, "parameters": {"iterations": 10},
-           "reached_steady_state": True}
+    run = {"scenario_resolved": {"load": {"point": [0, 0, 1]}}, "build": build, "model": model or case,
+           "parameters": {"iterations": 10}, "parameters_given": {"iterations": 10}, "reached_steady_state": True}
     with open(os.path.join(d, "run.json"), "w") as f:
         json.dump(run, f)
     with open(os.path.join(d, "timings.json"), "w") as f:
         json.dump({"setup_ms": 1.0, "step": {"median_ms": median, "p95_ms": 2 * median}}, f)
 
 
-class TableScript(unittest.TestCase):
+def write_fixture(exp, extra_cases=()):
+    """A paper-like results tree: four scenarios, the paper's cases plus `extra_cases`."""
+    rest = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]], float)
+    ref = np.array([[0, 0, 4], [0, 0, 1], [0, 0, 2], [0, 0, 0]], float)
+    cases = ["fem-direct", "fem-iterative", "pbd", "hybrid", *extra_cases]
+    index = {"name": "paper", "reference": "fem-direct", "scenarios": []}
+    for kind in ["cube", "liver"]:
+        for lc in ["pull", "push"]:
+            s = f"{kind}-{lc}"
+            index["scenarios"].append({"name": s, "cases": cases})
+            write_case(exp, s, "fem-direct", rest, ref, 3.0, "fem")
+            write_case(exp, s, "fem-iterative", rest, ref, 100.0, "fem")
+            write_case(exp, s, "hybrid", rest, 0.5 * ref, 4.0)
+            # PBD: u_z = (1, 3, 2, 0) -> hand-computed r against (4, 1, 2, 0).
+            write_case(exp, s, "pbd", rest, np.array([[0, 0, 1], [0, 0, 3], [0, 0, 2], [0, 0, 0]], float), 2.0)
+            for extra in extra_cases:
+                write_case(exp, s, extra, rest, 0.25 * ref + 0.01, 0.5, "some-new-model")
+    with open(os.path.join(exp, "experiment.json"), "w") as f:
+        json.dump(index, f)
+
+
+class TableScripts(unittest.TestCase):
     def test_tables_from_fixture(self):
-        rest = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]], float)
-        ref = np.array([[0, 0, 4], [0, 0, 1], [0, 0, 2], [0, 0, 0]], float)
         with tempfile.TemporaryDirectory() as tmp:
             exp = os.path.join(tmp, "paper")
-            for kind in ["cube", "liver"]:
-                for case in ["pull", "push"]:
-                    s = f"{kind}-{case}"
-                    write_case(exp, s, "fem-direct", rest, ref, 3.0)
-                    write_case(exp, s, "fem-iterative", rest, ref, 100.0)
-                    write_case(exp, s, "hybrid", rest, 0.5 * ref, 4.0)
-                    # PBD: u_z = (1, 3, 2, 0) -> hand-computed r against (4, 1, 2, 0).
-                    write_case(exp, s, "pbd", rest, np.array([[0, 0, 1], [0, 0, 3], [0, 0, 2], [0, 0, 0]], float), 2.0)
+            write_fixture(exp)
             out = os.path.join(tmp, "tables")
-            tables.make_tables(exp, out)
-            rows = open(os.path.join(out, "table1.csv")).read().splitlines()
+            table1.make(exp, out)
+            table2.make(exp, out)
+            rows = read(os.path.join(out, "table1.csv")).splitlines()
             self.assertEqual(rows[0], "models,pull (measured),pull (paper),push (measured),push (paper)")
-            self.assertEqual(rows[1], "hybrid vs FEM,1.000,0.975,1.000,0.972")
+            self.assertEqual(rows[1], "hybrid vs fem-direct,1.000,0.975,1.000,0.972")
             r = np.corrcoef([1, 3, 2, 0], [4, 1, 2, 0])[0, 1]
-            self.assertEqual(rows[2], f"PBD vs FEM,{r:.3f},0.852,{r:.3f},0.863")
-            t2 = open(os.path.join(out, "table2.csv")).read().splitlines()
+            self.assertEqual(rows[2], f"pbd vs fem-direct,{r:.3f},0.852,{r:.3f},0.863")
+            self.assertEqual(rows[3], "fem-iterative vs fem-direct,1.000,,1.000,")
+            t2 = read(os.path.join(out, "table2.csv")).splitlines()
             self.assertTrue(t2[1].startswith("hybrid,4.00,8.00,3.8,4.00,8.00,3.7"), t2[1])
-            self.assertIn("test cpu", open(os.path.join(out, "table2.md")).read())
+            self.assertTrue(t2[3].startswith("fem-direct,3.00,6.00,108.2"), t2[3])
+            self.assertIn("test cpu", read(os.path.join(out, "table2.md")))
+
+    def test_no_reference_declared_is_a_clear_error(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = os.path.join(tmp, "paper")
+            write_fixture(exp)
+            os.unlink(os.path.join(exp, "experiment.json"))
+            with self.assertRaisesRegex(ValueError, "no reference case declared"):
+                table1.make(exp, os.path.join(tmp, "tables"))
+
+
+class AnalysisReadsTheModelListFromResults(unittest.TestCase):
+    """A case the analysis code never names flows into tables 1-3 and the
+    time-vs-accuracy figure (issue 18)."""
+
+    def test_extra_case_appears_everywhere(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = os.path.join(tmp, "paper")
+            write_fixture(exp, extra_cases=["my-variant"])
+            out = os.path.join(tmp, "tables")
+            self.assertIn("my-variant", table1.make(exp, out))
+            self.assertIn("my-variant", table2.make(exp, out))
+            self.assertIn("my-variant", table3.make(exp, out))
+            t1 = read(os.path.join(out, "table1.csv"))
+            self.assertIn("my-variant vs fem-direct,1.000,,1.000,", t1)
+            t1m = read(os.path.join(out, "table1_metrics.csv"))
+            self.assertIn("my-variant,relative L2 error", t1m)
+            t2 = read(os.path.join(out, "table2.csv"))
+            self.assertIn("my-variant,0.50,1.00,,0.50,1.00,,1", t2)
+            self.assertIn("my-variant: some-new-model (iterations 10)", read(os.path.join(out, "table2.md")))
+            self.assertIn("my-variant", read(os.path.join(out, "table3_metrics.csv")))
+            figures = os.path.join(tmp, "figures")
+            os.makedirs(figures)
+            self.assertIn("my-variant", time_vs_accuracy.make(exp, figures))
+            self.assertTrue(os.path.getsize(os.path.join(figures, "time_vs_accuracy.png")) > 0)
 
 
 if __name__ == "__main__":

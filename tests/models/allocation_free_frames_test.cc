@@ -36,13 +36,21 @@ TEST_P(AllocationFreeFrame, StepAllocatesNothingAfterTheFirstFrame) {
   EXPECT_EQ(count, 0) << GetParam().model << " " << GetParam().parameters.dump();
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame,
-                         ::testing::Values(Case{"fem", {{"solver", "direct"}}}, Case{"fem", {{"solver", "iterative"}}},
-                                           Case{"pbd", {}}, Case{"hybrid", {}}),
+/// Every registered model with its defaults, and the non-default solvers.
+std::vector<Case> every_model() {
+  std::vector<Case> cases;
+  for (const ModelInfo& m : registered_models()) cases.push_back({m.name, nlohmann::json::object()});
+  cases.push_back({"fem", {{"solver", "iterative"}}});
+  cases.push_back({"hybrid", {{"coarse_solver", "iterative"}}});
+  cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame, ::testing::ValuesIn(every_model()),
                          [](const ::testing::TestParamInfo<Case>& i) {
-                           return i.param.model + (i.param.parameters.contains("solver")
-                                                       ? "_" + i.param.parameters["solver"].get<std::string>()
-                                                       : std::string());
+                           std::string name = i.param.model;
+                           for (const auto& [k, v] : i.param.parameters.items()) name += "_" + v.get<std::string>();
+                           return name;
                          });
 
 }  // namespace

@@ -1,0 +1,69 @@
+"""Writing tables (.md and .csv) and the notes every table carries."""
+import csv
+import io
+import json
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASES = ["pull", "push"]  # the paper's two load cases, scenarios <kind>-pull / <kind>-push
+
+
+def paper_values():
+    """analysis/paper_values.json: the paper's published numbers (data, not code)."""
+    with open(os.path.join(HERE, "paper_values.json")) as f:
+        return json.load(f)
+
+
+def paper_value(paper, table, case, load_case):
+    """The paper's value of `table` for a case (via paper_model_of_case), or None."""
+    model = paper["paper_model_of_case"].get(case)
+    return paper[table].get(model, {}).get(load_case) if model else None
+
+
+def fmt(x, digits=3):
+    if isinstance(x, str):
+        return x
+    if x is None or x != x:
+        return "n/a"
+    return f"{x:.{digits}f}"
+
+
+def write_table(out_dir, name, header, rows, notes=""):
+    """Writes name.md and name.csv."""
+    os.makedirs(out_dir, exist_ok=True)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(header)
+    w.writerows(rows)
+    with open(os.path.join(out_dir, name + ".csv"), "w") as f:
+        f.write(buf.getvalue())
+    md = "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |\n|" + "---|" * len(header) + "\n"
+    md += "".join("| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |\n" for r in rows)
+    if notes:
+        md += "\n" + notes.strip() + "\n"
+    with open(os.path.join(out_dir, name + ".md"), "w") as f:
+        f.write(md)
+
+
+def machine_note(cases):
+    """Machine, build and thread count of the runs (read from a run.json)."""
+    b = next(iter(cases.values()))["run"]["build"]
+    return (f"Measured on {b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
+            f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; one thread.")
+
+
+def case_legend(cases):
+    """'case: model (parameters the scenario set)' for every case, from run.json."""
+    parts = []
+    for name, c in cases.items():
+        run = c["run"]
+        given = run.get("parameters_given", run.get("parameters", {}))
+        settings = ", ".join(f"{k} {v}" for k, v in sorted(given.items()))
+        parts.append(f"{name}: {run.get('model', name)}" + (f" ({settings})" if settings else ""))
+    return "Cases: " + "; ".join(parts) + "."
+
+
+def ordered_for_paper(names, paper, table):
+    """Cases the paper has a value for first (in the paper's order), then the rest."""
+    in_paper = [c for m in paper[table] for c in names if paper["paper_model_of_case"].get(c) == m]
+    return in_paper + [c for c in names if c not in in_paper]

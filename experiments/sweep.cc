@@ -1,0 +1,186 @@
+#include "sweep.h"
+
+#include <set>
+#include <sstream>
+
+#include "model.h"
+#include "strict_json.h"
+
+namespace tb {
+namespace {
+
+struct Factor {
+  std::string key, label;
+  std::vector<nlohmann::json> values;
+  bool reference = false;
+};
+
+std::vector<std::string> split(const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  std::string part;
+  while (std::getline(ss, part, '.')) parts.push_back(part);
+  return parts;
+}
+
+/// Sets `value` at the dotted path `parts` of `j`, creating objects on the way.
+void set_at(nlohmann::json& j, const std::vector<std::string>& parts, size_t from, const nlohmann::json& value) {
+  nlohmann::json* at = &j;
+  for (size_t i = from; i + 1 < parts.size(); ++i) {
+    if (!at->contains(parts[i])) (*at)[parts[i]] = nlohmann::json::object();
+    at = &(*at)[parts[i]];
+    if (!at->is_object()) throw std::invalid_argument("'" + parts[i] + "' is not an object");
+  }
+  (*at)[parts.back()] = value;
+}
+
+bool model_declares(const nlohmann::json& model_entry, const std::string& parameter) {
+  const ModelInfo& info = find_model(model_entry.at("model").get<std::string>());
+  for (const auto& p : info.parameters)
+    if (p.name == parameter) return true;
+  return false;
+}
+
+/// Sets the factor's value in a copy of the scenario JSON.
+void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& value, const std::string& where) {
+  const std::vector<std::string> parts = split(f.key);
+  try {
+    if (parts.size() >= 3 && parts[0] == "models") {
+      // models.<case or *>.<path within the model entry>
+      nlohmann::json& models = scenario.at("models");
+      bool matched = false;
+      for (auto& m : models) {
+        const std::string case_name = m.value("name", m.value("model", std::string()));
+        const bool wildcard = parts[1] == "*";
+        if (!wildcard && case_name != parts[1]) continue;
+        if (wildcard && (parts.size() != 4 || parts[2] != "parameters" || !model_declares(m, parts[3]))) continue;
+        set_at(m, parts, 2, value);
+        matched = true;
+      }
+      if (!matched) throw std::invalid_argument("no case matches '" + parts[1] + "'");
+    } else {
+      set_at(scenario, parts, 0, value);
+    }
+  } catch (const std::exception& e) {
+    throw ScenarioError(where + ": sweep key '" + f.key + "': " + e.what());
+  }
+}
+
+std::string value_text(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+std::vector<Factor> parse_factors(StrictObject& o) {
+  const nlohmann::json& list = o.raw("factors");
+  if (!list.is_array() || list.empty()) o.fail("factors", "must be a non-empty array");
+  std::vector<Factor> factors;
+  std::set<std::string> labels;
+  for (size_t i = 0; i < list.size(); ++i) {
+    StrictObject fo(list[i], o.where() + ".factors[" + std::to_string(i) + "]");
+    Factor f;
+    f.key = fo.text("key", std::nullopt);
+    const auto parts = split(f.key);
+    if (parts.empty() || f.key.find("..") != std::string::npos) fo.fail("key", "must be a dotted path");
+    f.label = fo.text("label", parts.back());
+    f.reference = fo.text("role", "models", {"models", "reference"}) == "reference";
+    const nlohmann::json& values = fo.raw("values");
+    if (!values.is_array() || values.empty()) fo.fail("values", "must be a non-empty array");
+    for (const auto& v : values) {
+      if (!(v.is_number() || v.is_string() || v.is_boolean()))
+        fo.fail("values", "entries must be numbers, strings or booleans");
+      f.values.push_back(v);
+    }
+    if (!labels.insert(f.label).second) fo.fail("label", "'" + f.label + "' is used by two factors");
+    fo.finish();
+    factors.push_back(std::move(f));
+  }
+  return factors;
+}
+
+}  // namespace
+
+std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann::json& base,
+                                     const std::string& base_name, const std::string& reference,
+                                     const std::string& where) {
+  const nlohmann::json declarations = sweep.is_array() ? sweep : nlohmann::json::array({sweep});
+  std::vector<SweepPoint> points;
+  std::set<std::string> names;
+  auto add = [&](SweepPoint p) {
+    if (names.insert(p.name).second) points.push_back(std::move(p));
+  };
+  for (size_t d = 0; d < declarations.size(); ++d) {
+    StrictObject o(declarations[d], where + ".sweep" + (sweep.is_array() ? "[" + std::to_string(d) + "]" : ""));
+    const bool grid = o.text("mode", "one_at_a_time", {"one_at_a_time", "grid"}) == "grid";
+    std::vector<std::string> keep;
+    if (o.has("cases"))
+      for (const auto& c : o.raw("cases")) {
+        if (!c.is_string()) o.fail("cases", "entries must be case names");
+        keep.push_back(c.get<std::string>());
+      }
+    const std::vector<Factor> factors = parse_factors(o);
+    o.finish();
+    if (reference.empty())
+      for (const auto& f : factors)
+        if (f.reference) o.fail("factors", "a reference factor needs the experiment's \"reference\" case");
+
+    // The base scenario, restricted to the kept cases.
+    nlohmann::json restricted = base;
+    if (!keep.empty()) {
+      nlohmann::json models = nlohmann::json::array();
+      for (const auto& m : base.at("models")) {
+        const std::string case_name = m.value("name", m.value("model", std::string()));
+        for (const auto& k : keep)
+          if (k == case_name) models.push_back(m);
+      }
+      if (models.size() != keep.size()) o.fail("cases", "names a case the base scenario does not have");
+      restricted["models"] = models;
+    }
+
+    auto point = [&](const std::vector<std::pair<const Factor*, nlohmann::json>>& settings) {
+      SweepPoint p;
+      p.name = base_name;
+      p.scenario = restricted;
+      p.values = nlohmann::json::object();
+      p.keys = nlohmann::json::object();
+      for (const auto& [f, v] : settings) {
+        apply(p.scenario, *f, v, where);
+        p.name += "__" + f->label + "=" + value_text(v);
+        p.values[f->label] = v;
+        p.keys[f->label] = f->key;
+        p.reference_only = p.reference_only || f->reference;
+      }
+      if (p.reference_only) {
+        nlohmann::json models = nlohmann::json::array();
+        for (const auto& m : p.scenario.at("models"))
+          if (m.value("name", m.value("model", std::string())) == reference) models.push_back(m);
+        p.scenario["models"] = models;
+      }
+      p.scenario["name"] = p.name;
+      return p;
+    };
+
+    if (!grid) {
+      add(point({}));
+      for (const Factor& f : factors)
+        for (const auto& v : f.values) {
+          SweepPoint p = point({{&f, v}});
+          // A level equal to the base's value is the base: run once.
+          nlohmann::json probe = restricted;
+          apply(probe, f, v, where);
+          if (probe == restricted) continue;
+          add(std::move(p));
+        }
+    } else {
+      std::vector<size_t> index(factors.size(), 0);
+      while (true) {
+        std::vector<std::pair<const Factor*, nlohmann::json>> settings;
+        for (size_t i = 0; i < factors.size(); ++i) settings.push_back({&factors[i], factors[i].values[index[i]]});
+        add(point(settings));
+        size_t i = 0;
+        while (i < factors.size() && ++index[i] == factors[i].values.size()) index[i++] = 0;
+        if (i == factors.size()) break;
+      }
+    }
+  }
+  return points;
+}
+
+}  // namespace tb

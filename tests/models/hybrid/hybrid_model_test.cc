@@ -1,0 +1,142 @@
+// The hybrid model (paper 1.5) against what it is built from: its control points
+// are the coarse FEM's solution (eq. 33), nothing moves without load, and with the
+// fine volume as its "coarse" mesh and every surface vertex a control point it is
+// the fine FEM on the surface.
+#include <gtest/gtest.h>
+
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "load_mapping.h"
+#include "model.h"
+#include "test_support.h"
+
+namespace tb {
+namespace {
+
+const SupportBox kBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
+const PointLoad kPull{{0, 0, 0.1}, {0, 0, 1}};
+
+std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const nlohmann::json& params = {}) {
+  const ModelInfo& info = find_model(name);
+  Problem p{&mesh, Material{}, kBottom, resolve_parameters(info.parameters, params, name)};
+  auto m = info.create();
+  m->setup(p);
+  return m;
+}
+
+const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
+
+TEST(HybridModel, ControlPointsAreTheCoarseSolutionAtTheirWeights) {
+  // The coarse solve done independently: coarse body, direct solve, the load in
+  // its containing coarse tet. Each control point must sit at rest + sum_j w_j u_j.
+  const HybridMesh& h = cube();
+  const ElasticBody coarse(h.coarse_volume, Material{}, kBottom.select(h.coarse_volume.V));
+  auto solve = make_elastic_solve("direct", coarse, {});
+  Eigen::VectorXd u_coarse;
+  solve->solve(containing_tet(h.coarse_volume, kPull.point, "coarse volume"), kPull.force, u_coarse);
+
+  for (const std::string surface_force : {"none", "nearest_vertex"}) {
+    auto m = make("hybrid", h, {{"surface_force", surface_force}});
+    for (int frame = 0; frame < 3; ++frame) m->step(kPull);
+    const Displacements& u = m->surface_displacement();
+    double worst = 0, largest = 0;
+    for (const ControlPoint& cp : h.control_points) {
+      Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+      for (int j = 0; j < 4; ++j)
+        expected += cp.weights(j) * u_coarse.segment<3>(3 * h.coarse_volume.T(cp.coarse_tet, j));
+      worst = std::max(worst, (u.row(cp.surface_vertex).transpose() - expected).norm());
+      largest = std::max(largest, expected.norm());
+    }
+    ASSERT_GT(largest, 1e-4) << "the coarse solution should move some control point";
+    EXPECT_LT(worst, 1e-14 * largest + 1e-15) << "surface_force " << surface_force;
+  }
+}
+
+TEST(HybridModel, ZeroLoadLeavesEveryVertexExactlyAtRest) {
+  auto m = make("hybrid", cube());
+  for (int frame = 0; frame < 50; ++frame) m->step({kPull.point, Eigen::Vector3d::Zero()});
+  EXPECT_EQ(m->surface_displacement().cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(HybridModel, WithTheFineVolumeAsCoarseMeshItIsTheFineFem) {
+  // Every fine-surface vertex is a control point on its own node of the fine
+  // volume, so PBD has nothing left to move: the hybrid's surface is the FEM's.
+  const HybridMesh& fine = cube();
+  HybridMesh h = fine;
+  h.coarse_volume = fine.fine_volume;
+  h.control_points.clear();
+  for (Eigen::Index v = 0; v < fine.fine_surface.V.rows(); ++v) {
+    const int node = fine.fine_surface_to_volume[static_cast<size_t>(v)];
+    ControlPoint cp;
+    cp.surface_vertex = static_cast<int>(v);
+    for (Eigen::Index t = 0; t < h.coarse_volume.T.rows() && cp.coarse_tet < 0; ++t)
+      for (int k = 0; k < 4; ++k)
+        if (h.coarse_volume.T(t, k) == node) {
+          cp.coarse_tet = static_cast<int>(t);
+          cp.weights = Eigen::Vector4d::Unit(k);
+        }
+    ASSERT_GE(cp.coarse_tet, 0);
+    h.control_points.push_back(cp);
+  }
+  auto hybrid = make("hybrid", h);
+  auto fem = make("fem", h);
+  hybrid->step(kPull);
+  fem->step(kPull);
+  const Displacements& a = hybrid->surface_displacement();
+  const Displacements& b = fem->surface_displacement();
+  ASSERT_GT(b.norm(), 0);
+  EXPECT_LT((a - b).norm(), 1e-12 * b.norm());
+}
+
+TEST(HybridModel, CoarseSolverIsAParameterAndIterativeAgreesWithDirect) {
+  auto direct = make("hybrid", cube(), {{"surface_force", "none"}});
+  auto iterative = make("hybrid", cube(),
+                        {{"surface_force", "none"}, {"coarse_solver", "iterative"}, {"coarse_cg_tolerance", 1e-12}});
+  for (int frame = 0; frame < 20; ++frame) {
+    direct->step(kPull);
+    iterative->step(kPull);
+  }
+  const Displacements& a = direct->surface_displacement();
+  const Displacements& b = iterative->surface_displacement();
+  EXPECT_LT((a - b).norm(), 1e-8 * a.norm());
+  EXPECT_EQ(iterative->report()["coarse_solve"]["solve"], "iterative");
+  EXPECT_EQ(direct->report()["coarse_solve"]["solve"], "direct");
+}
+
+TEST(HybridModel, TwoLevelCoarsePreconditionerIsAClearError) {
+  try {
+    make("hybrid", cube(), {{"coarse_solver", "iterative"}, {"coarse_preconditioner", "two_level"}});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("hybrid: coarse mesh: coarse_preconditioner two_level needs"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tb
+
+namespace tb {
+namespace {
+
+TEST(HybridModel, ExactControlPointsAreTheFineFemsDisplacement) {
+  const HybridMesh& h = cube();
+  auto exact = make("hybrid", h, {{"control_points", "exact_fine_fem"}, {"surface_force", "none"}});
+  auto fem = make("fem", h);
+  exact->step(kPull);
+  fem->step(kPull);
+  const Displacements& a = exact->surface_displacement();
+  const Displacements& b = fem->surface_displacement();
+  double worst = 0, largest = 0;
+  for (const ControlPoint& cp : h.control_points) {
+    worst = std::max(worst, (a.row(cp.surface_vertex) - b.row(cp.surface_vertex)).norm());
+    largest = std::max(largest, b.row(cp.surface_vertex).norm());
+  }
+  ASSERT_GT(largest, 1e-4);
+  EXPECT_LT(worst, 1e-10 * largest);
+  EXPECT_EQ(exact->report()["control_points"], "exact_fine_fem");
+}
+
+}  // namespace
+}  // namespace tb
