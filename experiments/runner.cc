@@ -194,8 +194,13 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     const double max_u = u.rowwise().norm().maxCoeff();
     if (max_u > bound) {
       std::ostringstream msg;
-      msg << "diverged at frame " << frame << ": displacement " << max_u << " m exceeds " << bound
-          << " m (divergence_factor x bounding-box diagonal)";
+      if (info.dynamic)
+        msg << "diverged at frame " << frame << ": displacement " << max_u << " m exceeds " << bound
+            << " m (divergence_factor x bounding-box diagonal)";
+      else  // a static solve cannot diverge: the load is too large for the material
+        msg << "the static solution at frame " << frame << " displaces a vertex by " << max_u << " m, beyond " << bound
+            << " m (divergence_factor x bounding-box diagonal): a linear small-strain solution far "
+            << "outside its range (reduce the load or stiffen the material)";
       throw std::runtime_error(msg.str());
     }
     last_change = (u - previous).rowwise().norm().maxCoeff();
@@ -319,13 +324,15 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       progress.line(s.name + ": FAILED building meshes: " + ex.what());
       continue;
     }
+    Scenario resolved = s;
+    resolve_on_mesh(resolved, mesh->fine_surface);
     for (const ModelRun& run : s.models) {
       if (!opt.only_case.empty() && opt.only_case != run.case_name && opt.only_case != run.model) continue;
       CaseOutcome o;
       o.scenario = s.name;
       o.case_name = run.case_name;
       try {
-        o = run_case(s, run, *mesh, summary, e.name, opt, progress);
+        o = run_case(resolved, run, *mesh, summary, e.name, opt, progress);
         progress.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +
                       (o.steady_frame >= 0 ? "" : " (frame budget reached before steady state)"));
       } catch (const std::exception& ex) {

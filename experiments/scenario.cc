@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "strict_json.h"
 #include "sweep.h"
@@ -40,7 +41,10 @@ nlohmann::json Scenario::to_json() const {
                    {"poisson_ratio", material.poisson_ratio},
                    {"density", material.density}};
   j["support"] = {{"min", vec(support.min)}, {"max", vec(support.max)}};
-  j["load"] = {{"point", vec(load.point)}, {"force", vec(load.force)}, {"ramp_frames", ramp_frames}};
+  if (support_lowest_fraction >= 0) j["support"]["lowest_fraction"] = support_lowest_fraction;
+  j["load"] = {
+      {"at", load_placement}, {"point", vec(load.point)}, {"force", vec(load.force)}, {"ramp_frames", ramp_frames}};
+  if (load_placement != "point") j["load"]["point_given"] = vec(load_point_given);
   j["frames"] = {{"max", max_frames},
                  {"static", static_frames},
                  {"steady_tolerance", steady_tolerance},
@@ -48,6 +52,27 @@ nlohmann::json Scenario::to_json() const {
   j["observe"] = {{"vertices", observed}, {"top_tolerance", top_tolerance}};
   j["output"] = {{"series_every", series_every}};
   return j;
+}
+
+void resolve_on_mesh(Scenario& s, const SurfaceMesh& surface) {
+  const Points& V = surface.V;
+  if (V.rows() == 0) throw std::invalid_argument(s.name + ": the fine surface has no vertices");
+  if (s.support_lowest_fraction >= 0) {
+    const double zmin = V.col(2).minCoeff(), zmax = V.col(2).maxCoeff();
+    s.support.min = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+    s.support.max = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    s.support.max.z() = zmin + s.support_lowest_fraction * (zmax - zmin);
+  }
+  if (s.load_placement == "highest_surface_vertex") {
+    Eigen::Index top = 0;
+    V.col(2).maxCoeff(&top);  // the lowest index among equally high vertices
+    s.load.point = V.row(top).transpose();
+  } else if (s.load_placement == "nearest_surface_vertex") {
+    s.load_point_given = s.load.point;
+    Eigen::Index nearest = 0;
+    (V.rowwise() - s.load.point.transpose()).rowwise().squaredNorm().minCoeff(&nearest);
+    s.load.point = V.row(nearest).transpose();
+  }
 }
 
 PointLoad Scenario::load_at(int frame) const {
@@ -88,14 +113,28 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   s.material.density = m.number("density", s.material.density, 1e-12, 1e9);
   m.finish();
 
+  // Support: a box, or the lowest fraction of the surface's height (resolved on
+  // the mesh by resolve_on_mesh).
   StrictObject sup = o.object("support");
-  s.support.min = sup.vec3("min", std::nullopt);
-  s.support.max = sup.vec3("max", std::nullopt);
-  if ((s.support.min.array() > s.support.max.array()).any()) sup.fail("min", "exceeds max");
+  if (sup.has("lowest_fraction")) {
+    if (sup.has("min") || sup.has("max")) sup.fail("lowest_fraction", "give either min/max or lowest_fraction");
+    s.support_lowest_fraction = sup.number("lowest_fraction", std::nullopt, 0, 1);
+  } else {
+    s.support.min = sup.vec3("min", std::nullopt);
+    s.support.max = sup.vec3("max", std::nullopt);
+    if ((s.support.min.array() > s.support.max.array()).any()) sup.fail("min", "exceeds max");
+  }
   sup.finish();
 
+  // Load point: as given, the highest surface vertex, or the surface vertex
+  // nearest a given point (resolved on the mesh by resolve_on_mesh).
   StrictObject l = o.object("load");
-  s.load.point = l.vec3("point", std::nullopt);
+  s.load_placement = l.text("at", s.load_placement, {"point", "highest_surface_vertex", "nearest_surface_vertex"});
+  if (s.load_placement == "highest_surface_vertex") {
+    if (l.has("point")) l.fail("point", "not used with at = highest_surface_vertex");
+  } else {
+    s.load.point = l.vec3("point", std::nullopt);
+  }
   s.load.force = l.vec3("force", std::nullopt);
   s.ramp_frames = l.integer("ramp_frames", s.ramp_frames, 0, 1000000);
   l.finish();
@@ -172,7 +211,12 @@ Experiment load_experiment(const std::string& path) {
                                         ? base["name"].get<std::string>()
                                         : fs::path(file).stem().string();
       for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, fs::path(path).filename().string())) {
-        Scenario s = parse_scenario(point.scenario, file);
+        Scenario s;
+        try {
+          s = parse_scenario(point.scenario, file);
+        } catch (const ScenarioError& err) {
+          throw ScenarioError(fs::path(path).filename().string() + ": sweep point '" + point.name + "': " + err.what());
+        }
         s.sweep_base = base_name;
         s.sweep_values = std::move(point.values);
         s.sweep_keys = std::move(point.keys);

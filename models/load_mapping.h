@@ -53,6 +53,8 @@ class PerLoadPoint {
     }
     return result_;
   }
+  /// The last result (nullptr before the first lookup).
+  const Result* last() const { return valid_ ? &result_ : nullptr; }
 
  private:
   Result result_{};

@@ -30,6 +30,11 @@ struct SupportBox {
   }
   /// #V flags: 1 where the row of V is clamped.
   std::vector<char> select(const Points& V) const;
+  /// select(V), checked to hold the body: at least three clamped nodes not on
+  /// one line, else a std::invalid_argument naming this box, `mesh_name` and the
+  /// counts (a support that leaves rigid motions free makes K singular and PBD
+  /// drift). Every model calls it for every mesh it uses, before factorising.
+  std::vector<char> clamp(const Points& V, const std::string& mesh_name) const;
 };
 
 /// A point force: `force` (N) acting at `point` (m) in the rest configuration.

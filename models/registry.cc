@@ -28,10 +28,4 @@ const ModelInfo& find_model(const std::string& name) {
   throw std::invalid_argument("unknown model '" + name + "' (registered: " + known.str() + ")");
 }
 
-std::vector<char> SupportBox::select(const Points& V) const {
-  std::vector<char> out(static_cast<size_t>(V.rows()));
-  for (Eigen::Index i = 0; i < V.rows(); ++i) out[static_cast<size_t>(i)] = contains(V.row(i).transpose());
-  return out;
-}
-
 }  // namespace tb

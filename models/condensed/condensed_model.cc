@@ -16,7 +16,7 @@ class CondensedModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.fine_volume.T.rows() == 0)
       throw std::invalid_argument("condensed: the scenario provides no fine volume mesh");
-    body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.select(h.fine_volume.V));
+    body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.clamp(h.fine_volume.V, "fine volume"));
     // Outputs: the fine-surface vertices, which are fine-volume nodes.
     response_ = std::make_unique<PrecomputedResponse>(*body_, h.fine_surface_to_volume);
     const auto t0 = std::chrono::steady_clock::now();

@@ -16,7 +16,8 @@ class EmbeddedModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.coarse_volume.T.rows() == 0) throw std::invalid_argument("embedded: the scenario provides no coarse volume");
     try {
-      coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material, p.support.select(h.coarse_volume.V));
+      coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material,
+                                                   p.support.clamp(h.coarse_volume.V, "coarse volume"));
       coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_", nullptr);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("embedded: coarse mesh: ") + e.what());
@@ -27,8 +28,9 @@ class EmbeddedModel : public Model {
   }
 
   void step(const PointLoad& load) override {
-    const LoadStencil& coarse_load = coarse_load_.get(
-        load.point, [&](const Eigen::Vector3d& x) { return containing_tet(coarse_body_->mesh(), x, "coarse volume"); });
+    const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
+      return nearest_tet(coarse_body_->mesh(), x);
+    });  // the coarse hull may lie inside a curved surface
     coarse_->solve(coarse_load, load.force, coarse_u_);
     interpolate_embedded(embedding_, coarse_body_->mesh().T, coarse_u_, u_);
   }
@@ -37,7 +39,11 @@ class EmbeddedModel : public Model {
   int last_iterations() const override { return coarse_->last_iterations(); }
   // How far vertices lie outside the coarse mesh is the mesh's summary.json
   // "max_embedding_distance" (written beside every result as run.json "mesh").
-  nlohmann::json report() const override { return {{"coarse_solve", coarse_->report()}}; }
+  nlohmann::json report() const override {
+    nlohmann::json r = {{"coarse_solve", coarse_->report()}};
+    if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
+    return r;
+  }
 
  private:
   std::unique_ptr<ElasticBody> coarse_body_;

@@ -15,7 +15,7 @@ class FemModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.fine_volume.T.rows() == 0) throw std::invalid_argument("fem: the scenario provides no fine volume mesh");
     try {
-      body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.select(h.fine_volume.V));
+      body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.clamp(h.fine_volume.V, "fine volume"));
       // The two-level preconditioner's coarse space is the scenario's coarse (hybrid) mesh.
       solve_ = make_elastic_solve(*body_, p.parameters, "", h.coarse_volume.T.rows() ? &h.coarse_volume : nullptr);
     } catch (const std::invalid_argument& e) {

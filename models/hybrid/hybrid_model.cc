@@ -27,13 +27,15 @@ class HybridModel : public Model {
       if (exact_control_points_) {
         if (h.fine_volume.T.rows() == 0)
           throw std::invalid_argument("control_points exact_fine_fem needs the scenario's fine volume mesh");
-        fine_body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.select(h.fine_volume.V));
+        fine_body_ =
+            std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.clamp(h.fine_volume.V, "fine volume"));
         std::vector<int> control_nodes;
         for (const auto& cp : h.control_points)
           control_nodes.push_back(h.fine_surface_to_volume[static_cast<size_t>(cp.surface_vertex)]);
         exact_ = std::make_unique<PrecomputedResponse>(*fine_body_, control_nodes);
       } else {
-        coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material, p.support.select(h.coarse_volume.V));
+        coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material,
+                                                     p.support.clamp(h.coarse_volume.V, "coarse volume"));
         coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_", nullptr);
         coarse_u_ = Eigen::VectorXd::Zero(coarse_body_->dofs());
       }
@@ -43,7 +45,7 @@ class HybridModel : public Model {
     control_ = h.control_points;
     control_u_ = Points::Zero(static_cast<Eigen::Index>(control_.size()), 3);
     const SurfaceMesh& s = h.fine_surface;
-    std::vector<char> fixed = p.support.select(s.V);
+    std::vector<char> fixed = p.support.select(s.V);  // the control points hold the surface too
     pinned_.clear();
     for (const auto& cp : control_) {
       fixed[static_cast<size_t>(cp.surface_vertex)] = 1;  // never moved by the projection
@@ -69,7 +71,7 @@ class HybridModel : public Model {
       exact_->apply(fine_load, load.force, control_u_);
     } else {
       const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
-        return containing_tet(coarse_body_->mesh(), x, "coarse volume");
+        return nearest_tet(coarse_body_->mesh(), x);  // the coarse hull may lie inside a curved surface
       });
       coarse_->solve(coarse_load, load.force, coarse_u_);
       interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
@@ -87,7 +89,9 @@ class HybridModel : public Model {
   const Displacements& surface_displacement() const override { return u_; }
   nlohmann::json report() const override {
     if (exact_) return {{"control_points", "exact_fine_fem"}, {"fine_nodes_precomputed", exact_->nodes_computed()}};
-    return {{"control_points", "coarse_fem"}, {"coarse_solve", coarse_->report()}};
+    nlohmann::json r = {{"control_points", "coarse_fem"}, {"coarse_solve", coarse_->report()}};
+    if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
+    return r;
   }
 
  private:

@@ -10,8 +10,9 @@ class PbdModel : public Model {
  public:
   void setup(const Problem& p) override {
     const SurfaceMesh& s = p.mesh->fine_surface;
-    solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, p.support.select(s.V)),
-                                            pbd::Settings::from(p.parameters));
+    solver_ = std::make_unique<pbd::Solver>(
+        s, pbd::inverse_masses(s, p.material.density, p.support.clamp(s.V, "fine surface")),
+        pbd::Settings::from(p.parameters));
     u_ = Displacements::Zero(s.V.rows(), 3);
   }
 

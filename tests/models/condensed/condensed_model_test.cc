@@ -23,6 +23,7 @@ struct Case {
   SupportBox support;
   PointLoad load;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scenario; }
 
 // Support and load as in experiments/scenarios/{cube,liver}-pull.json.
 const Case kCube{"cube-pull", {{-1, -1, -1e-9}, {1, 1, 1e-9}}, {{0, 0, 0.1}, {0, 0, 1}}};

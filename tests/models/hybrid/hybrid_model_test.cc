@@ -140,3 +140,39 @@ TEST(HybridModel, ExactControlPointsAreTheFineFemsDisplacement) {
 
 }  // namespace
 }  // namespace tb
+
+namespace tb {
+namespace {
+
+TEST(HybridModel, LoadOnTheSurfaceOutsideTheCoarseHullMapsToTheNearestCoarseTet) {
+  // The liver's given coarse mesh does not cover all of its fine surface: load the
+  // surface vertex farthest outside it (issue 14: it used to be "outside the mesh").
+  const HybridMesh& h = testing::scenario_mesh("liver-pull");
+  Eigen::Index worst = 0;
+  double distance = 0;
+  for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v) {
+    const double d = nearest_tet(h.coarse_volume, h.fine_surface.V.row(v).transpose()).distance;
+    if (d > distance) {
+      distance = d;
+      worst = v;
+    }
+  }
+  ASSERT_GT(distance, 1e-4) << "expected a surface vertex outside the coarse mesh";
+  const SupportBox liver_bottom{{-1, -1, -1}, {1, 1, -0.0101}};
+  const PointLoad load{h.fine_surface.V.row(worst).transpose(), {0, 0, 0.01}};
+  for (const std::string model : {"hybrid", "embedded", "fem", "pbd"}) {
+    const ModelInfo& info = find_model(model);
+    Problem p{&h, Material{}, liver_bottom, resolve_parameters(info.parameters, {}, model)};
+    auto m = info.create();
+    m->setup(p);
+    for (int frame = 0; frame < 5; ++frame) m->step(load);
+    EXPECT_TRUE(m->surface_displacement().allFinite()) << model;
+    EXPECT_GT(m->surface_displacement().norm(), 0) << model;
+    if (model == "hybrid" || model == "embedded") {
+      EXPECT_NEAR(m->report()["load_distance_to_coarse_mesh_m"].get<double>(), distance, 1e-12) << model;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tb

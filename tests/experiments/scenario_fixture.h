@@ -1,0 +1,50 @@
+// A test fixture shared by the experiments tests: a temporary folder, a small
+// valid cube scenario, and helpers to write scenario files and expect errors.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "runner.h"
+#include "strict_json.h"
+#include "test_support.h"
+
+namespace tb {
+
+class Scenarios : public ::testing::Test {
+ protected:
+  const tb::testing::TempFolder tmp{"scenarios"};
+  const std::filesystem::path dir = tmp.path;
+
+  /// A small valid cube scenario (coarse divisions so it runs in a second).
+  static nlohmann::json small_cube() {
+    return nlohmann::json::parse(R"({
+      "name": "small",
+      "mesh": {"type": "cube", "nx": 4, "ny": 4, "nz": 4, "fine_tetgen": {"max_volume": 2e-6},
+               "coarse_selection": {"target_nodes": 30}},
+      "support": {"min": [-1, -1, -1e-9], "max": [1, 1, 1e-9]},
+      "load": {"point": [0, 0, 0.1], "force": [0, 0, 0.1], "ramp_frames": 5},
+      "frames": {"max": 300, "static": 5, "steady_tolerance": 1e-4},
+      "models": [{"name": "fem-direct", "model": "fem"}, {"model": "pbd"}, {"model": "hybrid"}]
+    })");
+  }
+  std::string write(const std::string& name, const nlohmann::json& j) {
+    const std::string p = (dir / name).string();
+    std::ofstream(p) << j.dump(2);
+    return p;
+  }
+  void expect_error(const nlohmann::json& j, const std::string& message) {
+    const std::string p = write("bad.json", j);
+    try {
+      load_experiment(p);
+      FAIL() << "accepted: " << message;
+    } catch (const ScenarioError& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+};
+
+}  // namespace tb

@@ -1,0 +1,176 @@
+// Sweep declarations (issue 12), and scenarios stated relative to their mesh
+// (issue 14): support as the lowest fraction of the height, load at the highest
+// or nearest surface vertex; supports that cannot hold; a static solve far outside
+// its range.
+#include <gtest/gtest.h>
+
+#include "atomic_file.h"
+#include "scenario_fixture.h"
+
+namespace tb {
+namespace {
+namespace fs = std::filesystem;
+
+std::vector<std::string> names(const Experiment& e) {
+  std::vector<std::string> out;
+  for (const auto& s : e.scenarios) out.push_back(s.name);
+  return out;
+}
+
+class Sweeps : public Scenarios {
+ protected:
+  Experiment sweep(const nlohmann::json& declaration, const std::string& reference = "fem-direct") {
+    write("small.json", small_cube());
+    return load_experiment(
+        write("sweep.json",
+              {{"name", "study"}, {"reference", reference}, {"scenarios", {"small.json"}}, {"sweep", declaration}}));
+  }
+};
+
+TEST_F(Sweeps, OneAtATimeRunsTheBaseOnceAndEachOtherLevel) {
+  const Experiment e = sweep(nlohmann::json::parse(R"({"factors": [
+      {"key": "models.*.parameters.iterations", "values": [5, 20]},
+      {"key": "models.hybrid.parameters.bending_angle", "values": ["unsigned", "signed"], "label": "angle"}]})"));
+  // "unsigned" is the default but the base does not state it: it runs (and must equal the base).
+  EXPECT_EQ(names(e), (std::vector<std::string>{"small", "small__iterations=5", "small__iterations=20",
+                                                "small__angle=unsigned", "small__angle=signed"}));
+  const Scenario& s = e.scenarios[2];
+  EXPECT_EQ(s.sweep_base, "small");
+  EXPECT_EQ(s.sweep_values["iterations"], 20);
+  for (const ModelRun& run : s.models)
+    if (run.model != "fem") {
+      EXPECT_EQ(run.parameters.integer("iterations"), 20) << run.case_name;
+    }
+  EXPECT_EQ(e.scenarios[4].models[2].parameters.choice("bending_angle"), "signed");
+  EXPECT_EQ(e.scenarios[4].models[1].parameters.choice("bending_angle"), "unsigned");  // pbd untouched
+  // The experiment index tells the analysis what each point set.
+  const nlohmann::json index = e.to_json();
+  EXPECT_EQ(index["scenarios"][1]["sweep"]["values"]["iterations"], 5);
+  EXPECT_EQ(index["scenarios"][1]["sweep"]["keys"]["iterations"], "models.*.parameters.iterations");
+}
+
+TEST_F(Sweeps, GridIsEveryCombinationAndCasesCanBeKept) {
+  const Experiment e = sweep(nlohmann::json::parse(R"({"mode": "grid", "cases": ["fem-direct", "hybrid"],
+      "factors": [{"key": "mesh.coarse_selection.target_nodes", "values": [20, 40]},
+                  {"key": "models.hybrid.parameters.iterations", "values": [5, 10, 15]}]})"));
+  ASSERT_EQ(e.scenarios.size(), 6u);
+  EXPECT_EQ(e.scenarios[5].name, "small__target_nodes=40__iterations=15");
+  EXPECT_EQ(e.scenarios[5].mesh.build.target_coarse_nodes, 40);
+  for (const auto& s : e.scenarios) ASSERT_EQ(s.models.size(), 2u);
+}
+
+TEST_F(Sweeps, ReferenceFactorKeepsOnlyTheReferenceCase) {
+  const Experiment e = sweep(nlohmann::json::parse(R"({"factors": [
+      {"key": "mesh.fine_tetgen.max_volume", "values": [2e-6, 5e-7], "role": "reference"}]})"));
+  ASSERT_EQ(e.scenarios.size(), 2u);  // 2e-6 is the base's own value
+  EXPECT_EQ(e.scenarios[0].models.size(), 3u);
+  ASSERT_EQ(e.scenarios[1].models.size(), 1u);
+  EXPECT_EQ(e.scenarios[1].models[0].case_name, "fem-direct");
+}
+
+TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
+  auto expect_sweep_error = [&](const std::string& declaration, const std::string& message) {
+    try {
+      sweep(nlohmann::json::parse(declaration));
+      FAIL() << "accepted " << declaration;
+    } catch (const ScenarioError& e) {
+      EXPECT_NE(std::string(e.what()).find("sweep.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  expect_sweep_error(R"({"factors": [{"key": "models.nope.parameters.iterations", "values": [1]}]})",
+                     "no case matches 'nope'");
+  expect_sweep_error(R"({"factors": []})", "factors: must be a non-empty array");
+  expect_sweep_error(R"({"factors": [{"key": "models.*.parameters.iterations", "values": [0]}]})",
+                     "iterations: 0 is outside");
+  expect_sweep_error(R"({"mode": "random", "factors": [{"key": "a.b", "values": [1]}]})", "mode");
+  expect_sweep_error(R"({"cases": ["ghost"], "factors": [{"key": "a.b", "values": [1]}]})",
+                     "names a case the base scenario does not have");
+  expect_sweep_error(R"({"factors": [{"key": "frames.max", "values": [10]}, {"key": "x.max", "values": [2]}]})",
+                     "'max' is used by two factors");
+}
+
+TEST_F(Scenarios, SupportAsLowestFractionAndLoadAtTheHighestVertex) {
+  auto j = small_cube();
+  j["support"] = {{"lowest_fraction", 0.25}};
+  j["load"] = {{"at", "highest_surface_vertex"}, {"force", {0, 0, 0.1}}, {"ramp_frames", 5}};
+  Experiment e = load_experiment(write("s.json", j));
+  SurfaceMesh surface;
+  surface.V.resize(3, 3);
+  surface.V << 0, 0, -1, 1, 0, 3, 2, 0, 1;
+  Scenario s = e.scenarios[0];
+  resolve_on_mesh(s, surface);
+  EXPECT_DOUBLE_EQ(s.support.max.z(), -1 + 0.25 * 4);
+  EXPECT_TRUE(std::isinf(s.support.min.x()));
+  EXPECT_EQ(s.load.point, Eigen::Vector3d(1, 0, 3));
+  j["load"] = {{"at", "nearest_surface_vertex"}, {"point", {1.9, 0, 0.8}}, {"force", {0, 0, 0.1}}};
+  s = load_experiment(write("s.json", j)).scenarios[0];
+  resolve_on_mesh(s, surface);
+  EXPECT_EQ(s.load.point, Eigen::Vector3d(2, 0, 1));
+  EXPECT_EQ(s.to_json()["load"]["point_given"], nlohmann::json({1.9, 0, 0.8}));
+
+  j["support"] = {{"lowest_fraction", 0.25}, {"min", {0, 0, 0}}};
+  expect_error(j, "give either min/max or lowest_fraction");
+  j["support"] = {{"lowest_fraction", 1.5}};
+  expect_error(j, "support.lowest_fraction: 1.5 is out of range");
+  j = small_cube();
+  j["load"] = {{"at", "highest_surface_vertex"}, {"point", {0, 0, 0}}, {"force", {0, 0, 1}}};
+  expect_error(j, "load.point: not used with at = highest_surface_vertex");
+}
+
+TEST_F(Scenarios, ConveniencesRunEndToEndAndRunJsonRecordsTheResolvedValues) {
+  auto j = small_cube();
+  j["support"] = {{"lowest_fraction", 0.01}};
+  j["load"] = {{"at", "highest_surface_vertex"}, {"force", {0, 0, 0.1}}, {"ramp_frames", 5}};
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  for (const auto& c : run_experiment(load_experiment(write("s.json", j)), o))
+    EXPECT_TRUE(c.ok) << c.case_name << ": " << c.error;
+  const auto run = nlohmann::json::parse(read_file((dir / "out" / "small" / "small" / "hybrid" / "run.json").string()));
+  EXPECT_EQ(run["scenario_resolved"]["load"]["at"], "highest_surface_vertex");
+  EXPECT_DOUBLE_EQ(run["scenario_resolved"]["load"]["point"][2].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(run["scenario_resolved"]["support"]["max"][2].get<double>(), 0.001);
+}
+
+TEST_F(Scenarios, ASupportThatCannotHoldIsAnErrorNamingBoxAndCounts) {
+  auto j = small_cube();
+  // One bottom corner only: a single node of every mesh.
+  j["support"] = {{"min", {-0.051, -0.051, -1e-9}}, {"max", {-0.049, -0.049, 1e-9}}};
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  const auto out = run_experiment(load_experiment(write("s.json", j)), o);
+  ASSERT_EQ(out.size(), 3u);
+  for (const auto& c : out) {
+    EXPECT_FALSE(c.ok) << c.case_name;
+    EXPECT_NE(c.error.find("clamps 1 of the"), std::string::npos) << c.error;
+    EXPECT_NE(c.error.find("at least three nodes not on one line"), std::string::npos) << c.error;
+    EXPECT_NE(c.error.find("support box (-0.051, -0.051, -1e-09) to (-0.049, -0.049, 1e-09)"), std::string::npos)
+        << c.error;
+  }
+  // A bottom edge: many nodes, all on one line.
+  j["support"] = {{"min", {-1, -0.051, -1e-9}}, {"max", {1, -0.049, 1e-9}}};
+  for (const auto& c : run_experiment(load_experiment(write("s.json", j)), o)) {
+    EXPECT_FALSE(c.ok) << c.case_name;
+    EXPECT_NE(c.error.find("all on one line"), std::string::npos) << c.error;
+  }
+}
+
+TEST_F(Scenarios, AStaticSolveFarOutsideItsRangeSaysSo) {
+  auto j = small_cube();
+  j["load"]["force"] = {0, 0, 1e6};
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.only_case = "fem-direct";
+  const auto out = run_experiment(load_experiment(write("s.json", j)), o);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].ok);
+  EXPECT_NE(out[0].error.find("a linear small-strain solution far outside its range"), std::string::npos)
+      << out[0].error;
+  EXPECT_EQ(out[0].error.find("diverged"), std::string::npos) << out[0].error;
+}
+
+}  // namespace
+}  // namespace tb
