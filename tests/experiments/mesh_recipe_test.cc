@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <map>
 
 #include "atomic_file.h"
 #include "mesh_checks.h"
@@ -130,6 +131,28 @@ TEST(MeshRecipe, CacheKeepsWarningsAndRepairCounts) {
   ASSERT_TRUE(hit);
   EXPECT_EQ(built.to_json(a), cached.to_json(b));
   EXPECT_EQ(cached.warnings.size(), 1u);
+}
+
+TEST(ShapesExperiment, HandComputedSupportAndLoadMatchTheGeneratedSurfaces) {
+  // Until scenarios can say "lowest fifth" and "highest vertex", the shapes
+  // scenarios carry coordinates computed from the generated surfaces: check them.
+  const Experiment e = load_experiment(std::string(TB_SOURCE_DIR) + "/experiments/shapes.json");
+  ASSERT_EQ(e.scenarios.size(), 2 * shape_names().size());
+  std::map<std::string, int> per_shape;
+  for (const Scenario& s : e.scenarios) {
+    ASSERT_EQ(s.mesh.kind, MeshRecipe::Kind::Shape) << s.name;
+    ++per_shape[s.mesh.shape.name];
+    const SurfaceMesh surface = make_shape_surface(s.mesh.shape);
+    const double height = surface.V.col(2).maxCoeff();
+    EXPECT_NEAR(s.support.max.z(), 0.2 * height, 1e-15) << s.name;
+    EXPECT_LT(s.support.min.z(), 0) << s.name;
+    Eigen::Index nearest;
+    const double d = (surface.V.rowwise() - s.load.point.transpose()).rowwise().norm().minCoeff(&nearest);
+    EXPECT_LT(d, 1e-15) << s.name << ": the load point is not a surface vertex";
+    EXPECT_EQ(surface.V(nearest, 2), height) << s.name << ": the load point is not a highest vertex";
+    EXPECT_EQ(s.observed, "all") << s.name;
+  }
+  for (const auto& name : shape_names()) EXPECT_EQ(per_shape[name], 2) << name;
 }
 
 }  // namespace
