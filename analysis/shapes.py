@@ -113,8 +113,12 @@ def build_note(exp_dir):
     return ""
 
 
+COLOURS = {"fem-direct": "0.5", "pbd": "C0", "hybrid": "C1"}
+
+
 def write_figure(path, rows):
-    """r(u_z), relative L2 and median frame time per shape and resolution; x marks a case without result."""
+    """r(u_z), relative L2 and median frame time per shape and resolution: hatched
+    bars did not reach the steady state, x marks a case without result."""
     labels = []
     for r in rows:
         label = f"{r['shape']}\n{r['surface_vertices']}"
@@ -122,33 +126,29 @@ def write_figure(path, rows):
             labels.append(label)
     x = np.arange(len(labels))
     fig, axes = plt.subplots(3, 1, figsize=(max(8, 0.9 * len(labels)), 9), sharex=True)
-    panels = [("corr_uz", "r(u_z) vs fem-direct", ["pbd", "hybrid"]),
-              ("rel_l2", "relative L2 vs fem-direct", ["pbd", "hybrid"]),
-              ("median_ms", "median ms per frame", MODELS)]
+    panels = [("corr_uz", "r(u_z) against fem-direct", ["pbd", "hybrid"]),
+              ("rel_l2", "relative L2 error against fem-direct", ["pbd", "hybrid"]),
+              ("median_ms", "median ms per frame (log)", MODELS)]
     for ax, (key, title, models) in zip(axes, panels):
         width = 0.8 / len(models)
         for k, model in enumerate(models):
-            values, missing = [], []
+            pos = x + (k - (len(models) - 1) / 2) * width
             for i, label in enumerate(labels):
                 r = next(r for r in rows if f"{r['shape']}\n{r['surface_vertices']}" == label and r["model"] == model)
-                v = np.nan
-                if r["ok"]:
-                    v = r["median_ms"] if key == "median_ms" else (r["metrics"] or {}).get(key, np.nan)
-                else:
-                    missing.append(i)
-                values.append(v)
-            pos = x + (k - (len(models) - 1) / 2) * width
-            ax.bar(pos, values, width, label=model)
-            if missing:
-                ax.plot(pos[missing], np.zeros(len(missing)), "kx", markersize=8)
+                if not r["ok"]:
+                    ax.plot(pos[i], 0.02, "x", color=COLOURS[model], markersize=8, transform=ax.get_xaxis_transform())
+                    continue
+                v = r["median_ms"] if key == "median_ms" else (r["metrics"] or {}).get(key, np.nan)
+                ax.bar(pos[i], v, width, color=COLOURS[model], hatch=None if r["steady"] else "//",
+                       edgecolor="white", label=model if i == 0 else None)
         ax.set_title(title)
         ax.grid(alpha=0.3, axis="y")
         if key == "median_ms":
             ax.set_yscale("log")
-    axes[0].legend(loc="lower right", fontsize=8)
+        ax.legend(fontsize=8, loc="upper left")
     axes[-1].set_xticks(x)
     axes[-1].set_xticklabels(labels, fontsize=8)
-    axes[-1].set_xlabel("shape, surface vertices (x: no result)")
+    axes[-1].set_xlabel("shape, surface vertices (hatched: not steady; x: no result)")
     fig.tight_layout()
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fig.savefig(path, dpi=150)

@@ -67,9 +67,12 @@ int main(int argc, char** argv) {
   resolution_opt->needs(shape_opt);
   surface_opt->excludes(cube_opt);
   shape_opt->excludes(cube_opt)->excludes(surface_opt);
-  mesh->add_option("--coarse", coarse, "given coarse tet volume (.msh .ele .vtu): embed the surface in it");
-  mesh->add_option("--unit-scale", unit_scale, "multiply file coordinates by this (0.01 for centimetres)");
-  mesh->add_flag("--repair-self-intersections", repair, "repair self-intersections with CGAL (reported)");
+  mesh->add_option("--coarse", coarse, "given coarse tet volume (.msh .ele .vtu): embed the surface in it")
+      ->needs(surface_opt);
+  mesh->add_option("--unit-scale", unit_scale, "multiply file coordinates by this (0.01 for centimetres)")
+      ->needs(surface_opt);
+  mesh->add_flag("--repair-self-intersections", repair, "repair self-intersections with CGAL (reported)")
+      ->needs(surface_opt);
   auto* max_volume_opt =
       mesh->add_option("--max-volume", max_volume, "fine TetGen volume bound, m^3 (0: none; default: the recipe's)");
   auto* quality_opt = mesh->add_option("--quality", quality, "fine TetGen radius-edge bound (-q)");

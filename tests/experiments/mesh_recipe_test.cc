@@ -92,6 +92,8 @@ TEST(MeshCommand, ShapeAndItsErrors) {
   EXPECT_NE(out.find("'cylinder' is not one of"), std::string::npos) << out;
   EXPECT_NE(run_cli("mesh --cube --resolution 20 --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("--resolution requires --shape"), std::string::npos) << out;
+  EXPECT_NE(run_cli("mesh --shape torus --unit-scale 0.01 --out " + dir / "x", out), 0);
+  EXPECT_NE(out.find("--unit-scale requires --surface"), std::string::npos) << out;
   EXPECT_NE(run_cli("mesh --cube --shape torus --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("excludes"), std::string::npos) << out;
 }
