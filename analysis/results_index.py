@@ -42,6 +42,7 @@ class Experiment:
         self.description = index.get("description", "")
         self.reference = index.get("reference") or None
         order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
+        self.listed_cases = order  # {scenario: [cases]} as the experiment lists them, failed ones included
         self.scenarios = {}
         for scenario in sorted(os.listdir(root)):
             sdir = os.path.join(root, scenario)
@@ -53,6 +54,14 @@ class Experiment:
             listed = [c for c in order.get(scenario, []) if c in found]
             ordered = listed + sorted(found - set(listed))  # cases the index does not list come last
             self.scenarios[scenario] = {c: load_case(os.path.join(sdir, c)) for c in ordered}
+
+    def failure(self, scenario, case):
+        """The runner's message for a case that failed (<scenario>/<case>.failed.json), or None."""
+        path = os.path.join(self.root, scenario, case + ".failed.json")
+        if not os.path.isfile(path):
+            return None
+        with open(path) as f:
+            return json.load(f).get("error")
 
     def scenario(self, name):
         if name not in self.scenarios:

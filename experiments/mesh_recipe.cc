@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
 #include "atomic_file.h"
@@ -39,6 +40,10 @@ nlohmann::json MeshRecipe::to_json() const {
     j["ny"] = cube.ny;
     j["nz"] = cube.nz;
     j["symmetric_fine_volume"] = symmetric_fine_volume;
+  } else if (kind == Kind::Shape) {
+    j["type"] = "shape";
+    j["shape"] = shape.name;
+    j["resolution"] = shape.resolution;
   } else {
     j["type"] = "files";
     j["surface"] = surface_file;
@@ -52,14 +57,15 @@ nlohmann::json MeshRecipe::to_json() const {
                       {"max_volume", build.fine_tetgen.max_volume}};
   j["coarse_selection"] = {{"target_nodes", build.target_coarse_nodes},
                            {"spacing", build.coarse_spacing},
-                           {"feature_angle_deg", build.feature_angle_deg}};
+                           {"feature_angle_deg", build.feature_angle_deg},
+                           {"min_dihedral_deg", build.coarse_quality.min_dihedral_deg}};
   return j;
 }
 
 MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where) {
   StrictObject o(j, where);
   MeshRecipe r;
-  const std::string type = o.text("type", std::nullopt, {"cube", "files"});
+  const std::string type = o.text("type", std::nullopt, {"cube", "files", "shape"});
   auto path = [&](const std::string& p) {
     return fs::path(p).is_absolute() ? p : (fs::path(base_dir) / p).lexically_normal().string();
   };
@@ -73,6 +79,10 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
     r.cube.ny = o.integer("ny", r.cube.ny, 1, 1000);
     r.cube.nz = o.integer("nz", r.cube.nz, 1, 1000);
     r.symmetric_fine_volume = o.boolean("symmetric_fine_volume", r.symmetric_fine_volume);
+  } else if (type == "shape") {
+    r.kind = MeshRecipe::Kind::Shape;
+    r.shape.name = o.text("shape", std::nullopt, shape_names());
+    r.shape.resolution = o.integer("resolution", r.shape.resolution, kMinShapeResolution, kMaxShapeResolution);
   } else {
     r.kind = MeshRecipe::Kind::Files;
     r.surface_file = path(o.text("surface", std::nullopt));
@@ -88,21 +98,49 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
   StrictObject fine = o.object("fine_tetgen", true);
   r.build.fine_tetgen.radius_edge_ratio =
       fine.number("radius_edge_ratio", r.build.fine_tetgen.radius_edge_ratio, 0, 100);
-  r.build.fine_tetgen.max_volume = fine.number("max_volume", r.build.fine_tetgen.max_volume, 0, 1e9);
+  // The cube's default bound is the paper's (kPaperCubeFineMaxVolume); other surfaces have none.
+  r.build.fine_tetgen.max_volume =
+      fine.number("max_volume",
+                  r.kind == MeshRecipe::Kind::Cube ? kPaperCubeFineMaxVolume : r.build.fine_tetgen.max_volume, 0, 1e9);
   fine.finish();
   StrictObject coarse = o.object("coarse_selection", true);
   r.build.target_coarse_nodes = coarse.integer("target_nodes", r.build.target_coarse_nodes, 4, 10000000);
   r.build.coarse_spacing = coarse.number("spacing", r.build.coarse_spacing, 0, 1e9);
   r.build.feature_angle_deg = coarse.number("feature_angle_deg", r.build.feature_angle_deg, 0, 180);
+  r.build.coarse_quality.min_dihedral_deg =
+      coarse.number("min_dihedral_deg", r.build.coarse_quality.min_dihedral_deg, 0, 30);
   coarse.finish();
   o.finish();
   return r;
 }
 
+namespace {
+
+void print_warnings(const MeshReport& report) {
+  for (const auto& w : report.warnings) std::cerr << "tissuebench: warning: " << w << "\n";
+}
+
+/// Tissue is centimetres to decimetres across: a surface far outside [1 mm, 10 m]
+/// was most likely read in the wrong unit.
+void check_unit_scale(const SurfaceMesh& s, const std::string& source, double unit_scale, MeshReport& report) {
+  constexpr double kSmallest = 1e-3, kLargest = 10;  // m, bounding-box diagonal
+  const double diagonal = bounding_box_diagonal(s.V);
+  if (diagonal >= kSmallest && diagonal <= kLargest) return;
+  std::ostringstream w;
+  w << source << ": bounding-box diagonal " << diagonal << " m after unit_scale " << unit_scale
+    << " is outside [1 mm, 10 m]: is unit_scale right (0.01 for centimetres, 0.001 for millimetres)?";
+  report.warnings.push_back(w.str());
+  std::cerr << "tissuebench: warning: " << w.str() << "\n";
+}
+
+}  // namespace
+
 HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
+  report.warnings.clear();
   if (r.kind == MeshRecipe::Kind::Cube) {
     SurfaceMesh s = make_cube_surface(r.cube);
     report.flipped_triangles = check_and_orient_surface("cube", s).flipped_triangles;
+    check_unit_scale(s, "cube", 1.0, report);
     HybridBuildOptions build = r.build;
     if (r.symmetric_fine_volume)
       build.fine_volume_builder = [&r](const SurfaceMesh& surface) {
@@ -110,8 +148,18 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
       };
     return build_hybrid_from_surface(s, build, "cube");
   }
+  if (r.kind == MeshRecipe::Kind::Shape) {
+    const std::string source = "shape " + r.shape.name;
+    SurfaceMesh s = make_shape_surface(r.shape);
+    report.flipped_triangles = check_and_orient_surface(source, s).flipped_triangles;
+    check_unit_scale(s, source, 1.0, report);
+    if (const int n = count_self_intersections(s))
+      throw MeshError(source, std::to_string(n) + " pairs of self-intersecting triangles (a generator bug)");
+    return build_hybrid_from_surface(s, r.build, source);
+  }
   SurfaceMesh s = read_surface(r.surface_file, r.unit_scale);
   report.flipped_triangles = check_and_orient_surface(r.surface_file, s).flipped_triangles;
+  check_unit_scale(s, r.surface_file, r.unit_scale, report);
   report.self_intersections_found = count_self_intersections(s);
   if (report.self_intersections_found) {
     if (!r.repair_self_intersections)
@@ -143,11 +191,19 @@ nlohmann::json MeshReport::to_json(const HybridMesh& h) const {
   j["coarse_volume"] = total_volume(h.coarse_volume);
   j["min_dihedral_deg"] = h.fine_volume.T.rows() ? min_dihedral_angle_deg(h.fine_volume) : 0.0;
   j["coarse_min_dihedral_deg"] = min_dihedral_angle_deg(h.coarse_volume);
+  j["fine_tets_below_5deg"] = count_tets_below_dihedral(h.fine_volume, 5);
+  j["coarse_tets_below_5deg"] = count_tets_below_dihedral(h.coarse_volume, 5);
+  j["coarse_repair"] = {{"boundary_slivers_removed", h.coarse_repair.boundary_slivers_removed},
+                        {"vertices_moved", h.coarse_repair.vertices_moved},
+                        {"interior_vertices_dropped", h.coarse_repair.interior_vertices_dropped},
+                        {"remeshes", h.coarse_repair.remeshes},
+                        {"slivers_left", h.coarse_repair.slivers_left}};
   j["max_embedding_distance"] = max_embedding_distance(h);
   j["self_intersections_found"] = self_intersections_found;
   j["self_intersections_repaired"] = repaired;
   if (repaired) j["surface_vertices_before_repair"] = vertices_before_repair;
   j["triangles_reoriented"] = flipped_triangles;
+  j["warnings"] = warnings;
   return j;
 }
 
@@ -187,7 +243,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-2";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-3";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);
@@ -216,6 +272,11 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   report.repaired = summary.at("self_intersections_repaired").get<bool>();
   report.vertices_before_repair = summary.value("surface_vertices_before_repair", 0);
   report.flipped_triangles = summary.at("triangles_reoriented").get<int>();
+  report.warnings = summary.at("warnings").get<std::vector<std::string>>();
+  const auto& repair = summary.at("coarse_repair");
+  h.coarse_repair = {repair.at("boundary_slivers_removed").get<int>(), repair.at("vertices_moved").get<int>(),
+                     repair.at("interior_vertices_dropped").get<int>(), repair.at("remeshes").get<int>(),
+                     repair.at("slivers_left").get<int>()};
   return h;
 }
 
@@ -245,6 +306,7 @@ HybridMesh build_mesh_cached(const MeshRecipe& recipe, MeshReport& report, const
     try {
       HybridMesh h = read_mesh_folder(entry.string(), report);
       hit = true;
+      print_warnings(report);  // as a build would
       return h;
     } catch (const std::exception&) {
       // A damaged entry: rebuild it below.

@@ -1,19 +1,27 @@
-// How a scenario's meshes are made: the paper's cube or files, turned into a
-// HybridMesh (meshing/). Shared by `tissuebench run` and `tissuebench mesh`.
+// How a scenario's meshes are made: the paper's cube, a generated shape
+// (meshing/shapes.h) or files, turned into a HybridMesh (meshing/). Shared by `tissuebench run` and `tissuebench mesh`.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cube_generator.h"
 #include "hybrid_builder.h"
 #include "mesh_types.h"
+#include "shapes.h"
 
 namespace tb {
 
+/// The paper's cube fine volume: TetGen volume bound (m^3) giving 3114 nodes and
+/// 17 821 tets (paper: 3028 / 17 044). The default "max_volume" of cube recipes
+/// (other recipes: none), so `tissuebench mesh --cube` builds the scenarios' cube.
+constexpr double kPaperCubeFineMaxVolume = 9e-8;
+
 struct MeshRecipe {
-  enum class Kind { Cube, Files } kind = Kind::Cube;
+  enum class Kind { Cube, Files, Shape } kind = Kind::Cube;
   CubeSpec cube;
+  ShapeSpec shape;  ///< Shape: which generated surface, at which resolution
   /// Cube: a mirror-symmetric fine volume (meshing/mirror_symmetric_volume.h).
   /// Off by default: it also changes the hybrid's coarse selection (made from the
   /// fine volume's vertices), and the paper scenarios keep the mesh they measure.
@@ -36,6 +44,9 @@ struct MeshReport {
   bool repaired = false;
   int vertices_before_repair = 0;  ///< the repair may remove and re-add vertices
   int flipped_triangles = 0;
+  /// Doubts about the input that do not stop the build (a unit scale that looks
+  /// wrong); each is also printed to stderr when found.
+  std::vector<std::string> warnings;
   nlohmann::json to_json(const HybridMesh& mesh) const;
 };
 
@@ -44,7 +55,9 @@ struct MeshReport {
 MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where);
 
 /// Reads/generates, checks and builds. Self-intersections are an error unless the
-/// recipe asks for repair. Throws MeshError / std::runtime_error.
+/// recipe asks for repair. A surface whose bounding-box diagonal (after
+/// unit_scale) is above 10 m or below 1 mm gets a warning in report.warnings and
+/// on stderr. Throws MeshError / std::runtime_error.
 HybridMesh build_mesh(const MeshRecipe& recipe, MeshReport& report);
 
 /// Writes fine/coarse volumes, control points, the surface (VTU, OBJ) and

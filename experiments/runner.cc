@@ -315,6 +315,11 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
     } catch (const std::exception& ex) {
       for (const ModelRun& run : s.models) {
+        try {
+          write_file_atomically((fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".failed.json")).string(),
+                                nlohmann::json({{"case", run.case_name}, {"error", ex.what()}}).dump(2) + "\n");
+        } catch (const std::exception&) {
+        }
         CaseOutcome failed;
         failed.scenario = s.name;
         failed.case_name = run.case_name;
@@ -331,14 +336,24 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       CaseOutcome o;
       o.scenario = s.name;
       o.case_name = run.case_name;
+      // A failed case leaves its message beside its (absent or previous) results, for the analysis.
+      const fs::path failure = fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".failed.json");
       try {
         o = run_case(resolved, run, *mesh, summary, e.name, opt, progress);
+        std::error_code ec;
+        fs::remove(failure, ec);
         progress.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +
                       (o.steady_frame >= 0 ? "" : " (frame budget reached before steady state)"));
       } catch (const std::exception& ex) {
         o.ok = false;
         o.error = ex.what();
         progress.line(s.name + "/" + run.case_name + ": FAILED: " + o.error);
+        try {
+          write_file_atomically(failure.string(),
+                                nlohmann::json({{"case", run.case_name}, {"error", o.error}}).dump(2) + "\n");
+        } catch (const std::exception&) {
+          // the failure is reported on stderr and in the exit status already
+        }
         std::error_code ec;
         fs::remove_all(fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".tmp" + std::to_string(::getpid())),
                        ec);

@@ -51,19 +51,33 @@ int main(int argc, char** argv) {
   run->add_flag("--no-mesh-cache", no_cache, "always build the meshes");
 
   auto* mesh = app.add_subcommand("mesh", "Build a hybrid mesh (paper section 1.2) and write it for ParaView");
-  std::string surface, coarse, mesh_out;
+  // Options left out keep the mesh recipe's defaults (parse_mesh_recipe), so
+  // `mesh --cube` builds the cube of the paper scenarios.
+  std::string surface, coarse, mesh_out, shape;
   bool cube = false, repair = false;
-  double unit_scale = 1.0, max_volume = 0, quality = 1.414;
-  int target = 150;
+  double unit_scale = 1.0, max_volume = 0, quality = 0;
+  int target = 0, resolution = 0;
   auto* surface_opt = mesh->add_option("--surface", surface, "closed triangle surface (.obj .off .stl .ply .vtu)");
   auto* cube_opt = mesh->add_flag("--cube", cube, "the paper's cube (10 x 10 x 12 divisions, side 0.1 m)");
+  std::string shape_help = "a generated shape:";
+  for (const auto& name : tb::shape_names()) shape_help += "\n  " + name + ": " + tb::shape_description(name);
+  auto* shape_opt = mesh->add_option("--shape", shape, shape_help);
+  auto* resolution_opt =
+      mesh->add_option("--resolution", resolution,
+                       "shape edge segments per 0.1 m (default " + std::to_string(tb::ShapeSpec{}.resolution) + ")");
+  resolution_opt->needs(shape_opt);
   surface_opt->excludes(cube_opt);
-  mesh->add_option("--coarse", coarse, "given coarse tet volume (.msh .ele .vtu): embed the surface in it");
-  mesh->add_option("--unit-scale", unit_scale, "multiply file coordinates by this (0.01 for centimetres)");
-  mesh->add_flag("--repair-self-intersections", repair, "repair self-intersections with CGAL (reported)");
-  mesh->add_option("--max-volume", max_volume, "fine TetGen volume bound, m^3 (0: none)");
-  mesh->add_option("--quality", quality, "fine TetGen radius-edge bound (-q)");
-  mesh->add_option("--target-coarse-nodes", target, "coarse node count to aim for");
+  shape_opt->excludes(cube_opt)->excludes(surface_opt);
+  mesh->add_option("--coarse", coarse, "given coarse tet volume (.msh .ele .vtu): embed the surface in it")
+      ->needs(surface_opt);
+  mesh->add_option("--unit-scale", unit_scale, "multiply file coordinates by this (0.01 for centimetres)")
+      ->needs(surface_opt);
+  mesh->add_flag("--repair-self-intersections", repair, "repair self-intersections with CGAL (reported)")
+      ->needs(surface_opt);
+  auto* max_volume_opt =
+      mesh->add_option("--max-volume", max_volume, "fine TetGen volume bound, m^3 (0: none; default: the recipe's)");
+  auto* quality_opt = mesh->add_option("--quality", quality, "fine TetGen radius-edge bound (-q)");
+  auto* target_opt = mesh->add_option("--target-coarse-nodes", target, "coarse node count to aim for");
   mesh->add_option("--out", mesh_out, "output folder")->required();
 
   app.add_subcommand("models", "List the registered models and their parameters");
@@ -102,10 +116,14 @@ int main(int argc, char** argv) {
       return failed ? 1 : 0;
     }
     if (mesh->parsed()) {
-      if (!cube && surface.empty()) throw std::invalid_argument("mesh: give --surface FILE or --cube");
+      if (!cube && surface.empty() && shape.empty())
+        throw std::invalid_argument("mesh: give --surface FILE, --cube or --shape NAME");
       nlohmann::json recipe;
       if (cube) {
         recipe = {{"type", "cube"}};
+      } else if (!shape.empty()) {
+        recipe = {{"type", "shape"}, {"shape", shape}};
+        if (resolution_opt->count()) recipe["resolution"] = resolution;
       } else {
         recipe = {{"type", "files"},
                   {"surface", std::filesystem::absolute(surface).string()},
@@ -113,8 +131,10 @@ int main(int argc, char** argv) {
                   {"repair_self_intersections", repair}};
         if (!coarse.empty()) recipe["coarse"] = std::filesystem::absolute(coarse).string();
       }
-      recipe["fine_tetgen"] = {{"radius_edge_ratio", quality}, {"max_volume", max_volume}};
-      recipe["coarse_selection"] = {{"target_nodes", target}};
+      recipe["fine_tetgen"] = nlohmann::json::object();
+      if (quality_opt->count()) recipe["fine_tetgen"]["radius_edge_ratio"] = quality;
+      if (max_volume_opt->count()) recipe["fine_tetgen"]["max_volume"] = max_volume;
+      if (target_opt->count()) recipe["coarse_selection"] = {{"target_nodes", target}};
       const tb::MeshRecipe r = tb::parse_mesh_recipe(recipe, ".", "mesh options");
       tb::MeshReport report;
       const tb::HybridMesh h = tb::build_mesh(r, report);

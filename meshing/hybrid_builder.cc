@@ -12,25 +12,6 @@
 namespace tb {
 namespace {
 
-/// Keeps the tets in `keep` and the nodes they use (renumbered in their old order).
-TetMesh compact(const TetMesh& m, const std::vector<int>& keep, std::vector<int>& new_index) {
-  new_index.assign(static_cast<size_t>(m.V.rows()), -1);
-  for (int t : keep)
-    for (int k = 0; k < 4; ++k) new_index[static_cast<size_t>(m.T(t, k))] = 0;
-  int next = 0;
-  for (auto& n : new_index)
-    if (n == 0) n = next++;
-  TetMesh out;
-  out.V.resize(next, 3);
-  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
-    if (new_index[static_cast<size_t>(v)] >= 0) out.V.row(new_index[static_cast<size_t>(v)]) = m.V.row(v);
-  out.T.resize(static_cast<Eigen::Index>(keep.size()), 4);
-  for (size_t i = 0; i < keep.size(); ++i)
-    for (int k = 0; k < 4; ++k)
-      out.T(static_cast<Eigen::Index>(i), k) = new_index[static_cast<size_t>(m.T(keep[i], k))];
-  return out;
-}
-
 /// Nodes of the coarse mesh on its boundary (faces owned by one tet), ascending.
 std::vector<int> boundary_nodes(const TetMesh& m) {
   std::map<std::array<int, 3>, int> face_count;
@@ -78,36 +59,26 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
                              ? o.coarse_spacing
                              : spacing_for_target_count(h.fine_volume.V, priority, o.target_coarse_nodes);
   std::vector<int> selected = select_covering_vertices(h.fine_volume.V, priority, spacing);
-  std::sort(selected.begin(), selected.end());
   if (selected.size() < 4) throw MeshError(source, "too few vertices selected for a coarse mesh (spacing too large)");
 
-  Points selected_points(static_cast<Eigen::Index>(selected.size()), 3);
-  for (size_t i = 0; i < selected.size(); ++i)
-    selected_points.row(static_cast<Eigen::Index>(i)) = h.fine_volume.V.row(selected[i]);
-  const TetMesh hull = tetrahedralize_points(selected_points, source);
-
-  // Remove coarse tets outside the surface (a Delaunay mesh fills the convex hull).
-  std::vector<int> inside;
-  for (Eigen::Index t = 0; t < hull.T.rows(); ++t) {
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) centroid += hull.V.row(hull.T(t, k)).transpose() / 4.0;
-    if (winding_number(surface, centroid) > 0.5) inside.push_back(static_cast<int>(t));
-  }
-  std::vector<int> new_index;
-  h.coarse_volume = compact(hull, inside, new_index);
+  const CoarseMesh coarse =
+      build_coarse_mesh(h.fine_volume.V, priority, selected, spacing, surface, o.coarse_quality, source);
+  h.coarse_volume = coarse.mesh;
+  h.coarse_repair = coarse.repair;
 
   // Control points: selected vertices on the fine surface, weight 1 on their node.
-  for (size_t i = 0; i < selected.size(); ++i) {
-    const int coarse_node = new_index[i];
-    if (selected[i] >= n_surface || coarse_node < 0) continue;
+  std::vector<int> node_tet(static_cast<size_t>(h.coarse_volume.V.rows()), -1), node_slot(node_tet.size(), 0);
+  for (Eigen::Index t = h.coarse_volume.T.rows() - 1; t >= 0; --t)  // the first tet holding each node
+    for (int k = 0; k < 4; ++k) {
+      node_tet[static_cast<size_t>(h.coarse_volume.T(t, k))] = static_cast<int>(t);
+      node_slot[static_cast<size_t>(h.coarse_volume.T(t, k))] = k;
+    }
+  for (size_t n = 0; n < coarse.node_vertex.size(); ++n) {
+    if (coarse.node_vertex[n] >= n_surface) continue;
     ControlPoint cp;
-    cp.surface_vertex = selected[i];
-    for (Eigen::Index t = 0; t < h.coarse_volume.T.rows() && cp.coarse_tet < 0; ++t)
-      for (int k = 0; k < 4; ++k)
-        if (h.coarse_volume.T(t, k) == coarse_node) {
-          cp.coarse_tet = static_cast<int>(t);
-          cp.weights = Eigen::Vector4d::Unit(k);
-        }
+    cp.surface_vertex = coarse.node_vertex[n];
+    cp.coarse_tet = node_tet[n];
+    cp.weights = Eigen::Vector4d::Unit(node_slot[n]);
     h.control_points.push_back(cp);
   }
   return h;

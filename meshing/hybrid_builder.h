@@ -4,16 +4,18 @@
 #include <functional>
 #include <string>
 
+#include "coarse_mesh.h"
 #include "mesh_types.h"
 #include "tetgen_driver.h"
 
 namespace tb {
 
 struct HybridBuildOptions {
-  TetgenOptions fine_tetgen;      ///< the fine base mesh (also the FEM reference)
-  int target_coarse_nodes = 150;  ///< coarse node count to aim for (paper: 153)
-  double coarse_spacing = 0;      ///< if > 0, used instead of target_coarse_nodes
-  double feature_angle_deg = 30;  ///< creases and corners are selected first
+  TetgenOptions fine_tetgen;         ///< the fine base mesh (also the FEM reference)
+  int target_coarse_nodes = 150;     ///< coarse node count to aim for (paper: 153)
+  double coarse_spacing = 0;         ///< if > 0, used instead of target_coarse_nodes
+  double feature_angle_deg = 30;     ///< creases and corners are selected first
+  CoarseMeshOptions coarse_quality;  ///< sliver repair of the coarse mesh
   /// If set, builds the fine volume from the surface (surface vertices first, in
   /// order) instead of tetrahedralize_surface with fine_tetgen.
   std::function<TetMesh(const SurfaceMesh&)> fine_volume_builder;
@@ -21,8 +23,9 @@ struct HybridBuildOptions {
 
 /// Paper 1.2: fine surface -> fine base tet mesh (TetGen) -> coverage selection of
 /// base vertices -> TetGen of the selected points -> coarse tets whose centroid is
-/// outside the surface removed (non-convex shapes) -> control points = selected
-/// vertices on the surface. `surface` must be closed, manifold and outward.
+/// outside the surface removed (non-convex shapes) -> slivers repaired
+/// (build_coarse_mesh) -> control points = selected vertices on the surface.
+/// `surface` must be closed, manifold and outward.
 HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBuildOptions& options,
                                      const std::string& source);
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <queue>
@@ -49,20 +50,37 @@ double total_volume(const TetMesh& m) {
   return v;
 }
 
+double tet_min_dihedral_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                            const Eigen::Vector3d& d) {
+  const std::array<Eigen::Vector3d, 4> p{a, b, c, d};
+  static const int edges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+  double min_angle = 180;
+  for (const auto& e : edges) {
+    // Dihedral angle along edge (p0, p1) between faces (p0, p1, p2) and (p0, p1, p3).
+    const Eigen::Vector3d& o = p[static_cast<size_t>(e[0])];
+    const Eigen::Vector3d axis = (p[static_cast<size_t>(e[1])] - o).normalized();
+    const Eigen::Vector3d u = p[static_cast<size_t>(e[2])] - o, w = p[static_cast<size_t>(e[3])] - o;
+    const Eigen::Vector3d pu = u - u.dot(axis) * axis, pw = w - w.dot(axis) * axis;
+    const double cosang = std::clamp(pu.normalized().dot(pw.normalized()), -1.0, 1.0);
+    min_angle = std::min(min_angle, std::acos(cosang) * 180.0 / M_PI);
+  }
+  return min_angle;
+}
+
+double tet_min_dihedral_deg(const TetMesh& m, Eigen::Index t) {
+  return tet_min_dihedral_deg(row(m.V, m.T(t, 0)), row(m.V, m.T(t, 1)), row(m.V, m.T(t, 2)), row(m.V, m.T(t, 3)));
+}
+
 double min_dihedral_angle_deg(const TetMesh& m) {
   double min_angle = 180;
-  static const int edges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
-  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
-    for (const auto& e : edges) {
-      // Dihedral angle along edge (a, b) between faces (a, b, c) and (a, b, d).
-      const Eigen::Vector3d a = row(m.V, m.T(t, e[0])), b = row(m.V, m.T(t, e[1]));
-      const Eigen::Vector3d c = row(m.V, m.T(t, e[2])), d = row(m.V, m.T(t, e[3]));
-      const Eigen::Vector3d axis = (b - a).normalized();
-      Eigen::Vector3d pc = (c - a) - (c - a).dot(axis) * axis, pd = (d - a) - (d - a).dot(axis) * axis;
-      const double cosang = std::clamp(pc.normalized().dot(pd.normalized()), -1.0, 1.0);
-      min_angle = std::min(min_angle, std::acos(cosang) * 180.0 / M_PI);
-    }
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) min_angle = std::min(min_angle, tet_min_dihedral_deg(m, t));
   return min_angle;
+}
+
+int count_tets_below_dihedral(const TetMesh& m, double degrees) {
+  int n = 0;
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) n += tet_min_dihedral_deg(m, t) < degrees;
+  return n;
 }
 
 SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh& m) {

@@ -37,8 +37,15 @@ double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
                   const Eigen::Vector3d& d);
 /// Sum of tet volumes.
 double total_volume(const TetMesh& mesh);
-/// Smallest dihedral angle over all tets, in degrees.
+/// Smallest of the six dihedral angles of tet (a, b, c, d), in degrees (0 if flat).
+double tet_min_dihedral_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                            const Eigen::Vector3d& d);
+/// Smallest dihedral angle of tet t of `mesh`, in degrees.
+double tet_min_dihedral_deg(const TetMesh& mesh, Eigen::Index t);
+/// Smallest dihedral angle over all tets, in degrees (180 for no tets).
 double min_dihedral_angle_deg(const TetMesh& mesh);
+/// Number of tets whose smallest dihedral angle is below `degrees`.
+int count_tets_below_dihedral(const TetMesh& mesh, double degrees);
 /// Length of the bounding-box diagonal.
 double bounding_box_diagonal(const Points& V);
 

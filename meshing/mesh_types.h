@@ -37,6 +37,15 @@ struct ControlPoint {
   Eigen::Vector4d weights{1, 0, 0, 0};  ///< barycentric weights, sum to 1
 };
 
+/// What the coarse mesh's sliver repair did (meshing/coarse_mesh.h), reported in summary.json.
+struct CoarseRepairReport {
+  int boundary_slivers_removed = 0;   ///< flat tets on the boundary taken out of the mesh
+  int vertices_moved = 0;             ///< selected vertices swapped for a neighbouring fine vertex
+  int interior_vertices_dropped = 0;  ///< interior selected vertices left out
+  int remeshes = 0;                   ///< Delaunay meshes made after the first
+  int slivers_left = 0;               ///< tets still below the repair's angle (0 unless it gave up)
+};
+
 /// The hybrid mesh of paper section 1.2.
 ///   fine_volume may be empty when a coarse volume was given (liver path).
 ///   fine_surface_to_volume  #V_surface indices of each surface vertex in
@@ -47,6 +56,7 @@ struct HybridMesh {
   std::vector<int> fine_surface_to_volume;
   TetMesh coarse_volume;
   std::vector<ControlPoint> control_points;
+  CoarseRepairReport coarse_repair;  ///< built coarse meshes only (zeros for a given one)
 };
 
 }  // namespace tb
