@@ -58,7 +58,12 @@ nlohmann::json MeshRecipe::to_json() const {
   j["coarse_selection"] = {{"target_nodes", build.target_coarse_nodes},
                            {"spacing", build.coarse_spacing},
                            {"feature_angle_deg", build.feature_angle_deg},
-                           {"min_dihedral_deg", build.coarse_quality.min_dihedral_deg}};
+                           {"min_dihedral_deg", build.coarse_quality.min_dihedral_deg},
+                           {"seed", build.selection_seed}};
+  if (!build.include_points.empty()) {
+    j["coarse_selection"]["include_points"] = nlohmann::json::array();
+    for (const auto& p : build.include_points) j["coarse_selection"]["include_points"].push_back({p.x(), p.y(), p.z()});
+  }
   return j;
 }
 
@@ -109,6 +114,17 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
   r.build.feature_angle_deg = coarse.number("feature_angle_deg", r.build.feature_angle_deg, 0, 180);
   r.build.coarse_quality.min_dihedral_deg =
       coarse.number("min_dihedral_deg", r.build.coarse_quality.min_dihedral_deg, 0, 30);
+  r.build.selection_seed =
+      static_cast<unsigned>(coarse.integer("seed", static_cast<int>(r.build.selection_seed), 0, 1000000000));
+  if (coarse.has("include_points")) {
+    const nlohmann::json& points = coarse.raw("include_points");
+    if (!points.is_array()) coarse.fail("include_points", "must be an array of [x, y, z] points");
+    for (const auto& p : points) {
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+        coarse.fail("include_points", "must be an array of [x, y, z] points");
+      r.build.include_points.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    }
+  }
   coarse.finish();
   o.finish();
   return r;

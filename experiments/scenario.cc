@@ -1,5 +1,6 @@
 #include "scenario.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -184,6 +185,18 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   return s;
 }
 
+/// Everything a scenario runs, without its name: the resolved scenario and each
+/// case's model and resolved parameters.
+nlohmann::json what_runs(const Scenario& s) {
+  nlohmann::json j = s.to_json();
+  j.erase("name");
+  j.erase("description");
+  j["models"] = nlohmann::json::array();
+  for (const ModelRun& run : s.models)
+    j["models"].push_back({{"case", run.case_name}, {"model", run.model}, {"parameters", run.parameters.to_json()}});
+  return j;
+}
+
 }  // namespace
 
 Experiment load_experiment(const std::string& path) {
@@ -210,6 +223,7 @@ Experiment load_experiment(const std::string& path) {
       const std::string base_name = base.is_object() && base.contains("name") && base["name"].is_string()
                                         ? base["name"].get<std::string>()
                                         : fs::path(file).stem().string();
+      std::vector<nlohmann::json> seen;  // what each point runs: a level equal to another point's runs once
       for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, fs::path(path).filename().string())) {
         Scenario s;
         try {
@@ -217,6 +231,9 @@ Experiment load_experiment(const std::string& path) {
         } catch (const ScenarioError& err) {
           throw ScenarioError(fs::path(path).filename().string() + ": sweep point '" + point.name + "': " + err.what());
         }
+        const nlohmann::json runs = what_runs(s);
+        if (std::find(seen.begin(), seen.end(), runs) != seen.end()) continue;  // e.g. a default stated explicitly
+        seen.push_back(runs);
         s.sweep_base = base_name;
         s.sweep_values = std::move(point.values);
         s.sweep_keys = std::move(point.keys);

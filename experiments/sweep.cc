@@ -12,6 +12,7 @@ namespace {
 struct Factor {
   std::string key, label;
   std::vector<nlohmann::json> values;
+  std::vector<std::string> value_names;  ///< how each value appears in scenario names
   bool reference = false;
 };
 
@@ -66,7 +67,6 @@ void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& valu
   }
 }
 
-std::string value_text(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
 std::vector<Factor> parse_factors(StrictObject& o) {
   const nlohmann::json& list = o.raw("factors");
@@ -83,10 +83,27 @@ std::vector<Factor> parse_factors(StrictObject& o) {
     f.reference = fo.text("role", "models", {"models", "reference"}) == "reference";
     const nlohmann::json& values = fo.raw("values");
     if (!values.is_array() || values.empty()) fo.fail("values", "must be a non-empty array");
-    for (const auto& v : values) {
-      if (!(v.is_number() || v.is_string() || v.is_boolean()))
-        fo.fail("values", "entries must be numbers, strings or booleans");
-      f.values.push_back(v);
+    for (const auto& v : values) f.values.push_back(v);
+    // Scalars name themselves; arrays and objects need "value_names".
+    const nlohmann::json& names = fo.raw("value_names");
+    if (!names.is_null() && (!names.is_array() || names.size() != values.size()))
+      fo.fail("value_names", "must be an array of one name per value");
+    for (size_t k = 0; k < f.values.size(); ++k) {
+      const nlohmann::json& v = f.values[k];
+      std::string name;
+      if (!names.is_null()) {
+        if (!names[k].is_string()) fo.fail("value_names", "entries must be strings");
+        name = names[k].get<std::string>();
+      } else if (v.is_string()) {
+        name = v.get<std::string>();
+      } else if (v.is_number() || v.is_boolean()) {
+        name = v.dump();
+      } else {
+        fo.fail("value_names", "needed: a value is an array or object");
+      }
+      if (name.empty() || name.find_first_of("/ ") != std::string::npos)
+        fo.fail("value_names", "'" + name + "' cannot be part of a folder name");
+      f.value_names.push_back(name);
     }
     if (!labels.insert(f.label).second) fo.fail("label", "'" + f.label + "' is used by two factors");
     fo.finish();
@@ -134,16 +151,16 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
       restricted["models"] = models;
     }
 
-    auto point = [&](const std::vector<std::pair<const Factor*, nlohmann::json>>& settings) {
+    auto point = [&](const std::vector<std::pair<const Factor*, size_t>>& settings) {
       SweepPoint p;
       p.name = base_name;
       p.scenario = restricted;
       p.values = nlohmann::json::object();
       p.keys = nlohmann::json::object();
-      for (const auto& [f, v] : settings) {
-        apply(p.scenario, *f, v, where);
-        p.name += "__" + f->label + "=" + value_text(v);
-        p.values[f->label] = v;
+      for (const auto& [f, k] : settings) {
+        apply(p.scenario, *f, f->values[k], where);
+        p.name += "__" + f->label + "=" + f->value_names[k];
+        p.values[f->label] = f->values[k];
         p.keys[f->label] = f->key;
         p.reference_only = p.reference_only || f->reference;
       }
@@ -160,19 +177,18 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
     if (!grid) {
       add(point({}));
       for (const Factor& f : factors)
-        for (const auto& v : f.values) {
-          SweepPoint p = point({{&f, v}});
+        for (size_t k = 0; k < f.values.size(); ++k) {
           // A level equal to the base's value is the base: run once.
           nlohmann::json probe = restricted;
-          apply(probe, f, v, where);
+          apply(probe, f, f.values[k], where);
           if (probe == restricted) continue;
-          add(std::move(p));
+          add(point({{&f, k}}));
         }
     } else {
       std::vector<size_t> index(factors.size(), 0);
       while (true) {
-        std::vector<std::pair<const Factor*, nlohmann::json>> settings;
-        for (size_t i = 0; i < factors.size(); ++i) settings.push_back({&factors[i], factors[i].values[index[i]]});
+        std::vector<std::pair<const Factor*, size_t>> settings;
+        for (size_t i = 0; i < factors.size(); ++i) settings.push_back({&factors[i], index[i]});
         add(point(settings));
         size_t i = 0;
         while (i < factors.size() && ++index[i] == factors[i].values.size()) index[i++] = 0;

@@ -3,6 +3,7 @@
 //             "cases": ["fem-direct", "hybrid"],        (optional: keep only these)
 //             "factors": [{"key": "models.*.parameters.iterations", "values": [5, 20],
 //                          "label": "iterations",        (optional: the key's last part)
+//                          "value_names": ["5", "20"],   (optional; needed for array values)
 //                          "role": "models" | "reference"}]}
 // or a list of such objects. A key is a dotted path into the scenario JSON; the
 // segment after "models" names a case (or "*" for every case whose model declares

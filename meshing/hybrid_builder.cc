@@ -55,10 +55,15 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
   std::vector<int> priority(static_cast<size_t>(h.fine_volume.V.rows()), 3);
   const std::vector<int> surface_priority = surface_feature_priority(surface, o.feature_angle_deg);
   std::copy(surface_priority.begin(), surface_priority.end(), priority.begin());
-  const double spacing = o.coarse_spacing > 0
-                             ? o.coarse_spacing
-                             : spacing_for_target_count(h.fine_volume.V, priority, o.target_coarse_nodes);
-  std::vector<int> selected = select_covering_vertices(h.fine_volume.V, priority, spacing);
+  for (const Eigen::Vector3d& p : o.include_points) {
+    Eigen::Index nearest = 0;
+    (surface.V.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&nearest);
+    priority[static_cast<size_t>(nearest)] = -1;  // before corners
+  }
+  const double spacing = o.coarse_spacing > 0 ? o.coarse_spacing
+                                              : spacing_for_target_count(h.fine_volume.V, priority,
+                                                                         o.target_coarse_nodes, o.selection_seed);
+  std::vector<int> selected = select_covering_vertices(h.fine_volume.V, priority, spacing, o.selection_seed);
   if (selected.size() < 4) throw MeshError(source, "too few vertices selected for a coarse mesh (spacing too large)");
 
   const CoarseMesh coarse =

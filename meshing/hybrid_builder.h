@@ -1,8 +1,10 @@
 // Building the hybrid mesh of paper section 1.2 (figure 1).
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "coarse_mesh.h"
 #include "mesh_types.h"
@@ -16,6 +18,10 @@ struct HybridBuildOptions {
   double coarse_spacing = 0;         ///< if > 0, used instead of target_coarse_nodes
   double feature_angle_deg = 30;     ///< creases and corners are selected first
   CoarseMeshOptions coarse_quality;  ///< sliver repair of the coarse mesh
+  unsigned selection_seed = 0;       ///< visiting order within a priority class (vertex_selection.h)
+  /// Points whose nearest fine-surface vertex is selected first, before corners
+  /// (e.g. the load point: a coarse node where the force acts).
+  std::vector<Eigen::Vector3d> include_points;
   /// If set, builds the fine volume from the surface (surface vertices first, in
   /// order) instead of tetrahedralize_surface with fine_tetgen.
   std::function<TetMesh(const SurfaceMesh&)> fine_volume_builder;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -35,11 +36,30 @@ std::vector<int> surface_feature_priority(const SurfaceMesh& s, double feature_a
   return priority;
 }
 
-std::vector<int> select_covering_vertices(const Points& V, const std::vector<int>& priority, double spacing) {
+std::vector<int> seed_rank(int n, unsigned seed) {
+  std::vector<int> rank(static_cast<size_t>(n));
+  std::iota(rank.begin(), rank.end(), 0);
+  if (seed == 0) return rank;
+  uint64_t state = seed;
+  auto next = [&state] {  // splitmix64
+    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  };
+  for (int i = n - 1; i > 0; --i) std::swap(rank[static_cast<size_t>(i)], rank[next() % static_cast<uint64_t>(i + 1)]);
+  return rank;
+}
+
+std::vector<int> select_covering_vertices(const Points& V, const std::vector<int>& priority, double spacing,
+                                          unsigned seed) {
+  const std::vector<int> rank = seed_rank(static_cast<int>(V.rows()), seed);
   std::vector<int> order(static_cast<size_t>(V.rows()));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return priority[static_cast<size_t>(a)] < priority[static_cast<size_t>(b)]; });
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto ua = static_cast<size_t>(a), ub = static_cast<size_t>(b);
+    return priority[ua] != priority[ub] ? priority[ua] < priority[ub] : rank[ua] < rank[ub];
+  });
   std::vector<int> selected;
   const double s2 = spacing * spacing;
   for (int v : order) {
@@ -54,13 +74,13 @@ std::vector<int> select_covering_vertices(const Points& V, const std::vector<int
   return selected;
 }
 
-double spacing_for_target_count(const Points& V, const std::vector<int>& priority, int target_count) {
+double spacing_for_target_count(const Points& V, const std::vector<int>& priority, int target_count, unsigned seed) {
   double lo = 0, hi = bounding_box_diagonal(V);
   double best = hi;
   int best_miss = std::numeric_limits<int>::max();
   for (int it = 0; it < 50; ++it) {
     const double mid = 0.5 * (lo + hi);
-    const int count = static_cast<int>(select_covering_vertices(V, priority, mid).size());
+    const int count = static_cast<int>(select_covering_vertices(V, priority, mid, seed).size());
     if (std::abs(count - target_count) < best_miss) {
       best_miss = std::abs(count - target_count);
       best = mid;

@@ -23,6 +23,7 @@ class HybridModel : public Model {
     // The ablation control_points = exact_fine_fem places the control points at
     // the fine FEM's solution instead (the fine stiffness condensed on them).
     exact_control_points_ = p.parameters.choice("control_points") == "exact_fine_fem";
+    load_on_nearest_node_ = p.parameters.choice("coarse_load") == "nearest_node";
     try {
       if (exact_control_points_) {
         if (h.fine_volume.T.rows() == 0)
@@ -70,8 +71,11 @@ class HybridModel : public Model {
           load.point, [&](const Eigen::Vector3d& x) { return containing_tet(fine_body_->mesh(), x, "fine volume"); });
       exact_->apply(fine_load, load.force, control_u_);
     } else {
+      // The P1 stencil of the coarse tet holding the point (the nearest one: the
+      // coarse hull may lie inside a curved surface), or, as a study factor, the
+      // nearest coarse node alone.
       const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
-        return nearest_tet(coarse_body_->mesh(), x);  // the coarse hull may lie inside a curved surface
+        return load_on_nearest_node_ ? nearest_vertex(coarse_body_->mesh().V, x) : nearest_tet(coarse_body_->mesh(), x);
       });
       coarse_->solve(coarse_load, load.force, coarse_u_);
       interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
@@ -96,6 +100,7 @@ class HybridModel : public Model {
 
  private:
   bool exact_control_points_ = false;
+  bool load_on_nearest_node_ = false;
   std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only
   std::unique_ptr<PrecomputedResponse> exact_;  // exact_fine_fem only
   PerLoadPoint<LoadStencil> fine_load_;         // exact_fine_fem only
@@ -125,6 +130,11 @@ ModelInfo hybrid_model_info() {
       "coarse_fem: the paper's, control points placed by the coarse FEM (eq. 33); exact_fine_fem: an ablation "
       "beyond the paper, placed at the fine FEM's solution (the fine stiffness condensed on them), which separates "
       "the coarse mesh's error from PBD's"));
+  specs.push_back(ParameterSpec::choice(
+      "coarse_load", {"containing_tet", "nearest_node"}, "containing_tet",
+      "how the load reaches the coarse FEM: containing_tet, spread by the P1 weights of the coarse tet holding the "
+      "point (the nearest tet when it lies outside, distance in run.json); nearest_node, all on the nearest coarse "
+      "node"));
   specs.push_back(ParameterSpec::choice(
       "surface_force", {"nearest_vertex", "none"}, "nearest_vertex",
       "nearest_vertex: eq. (31) also applies the load to the nearest free surface vertex, as in the paper's step 2; "

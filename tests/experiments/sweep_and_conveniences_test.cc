@@ -31,9 +31,9 @@ TEST_F(Sweeps, OneAtATimeRunsTheBaseOnceAndEachOtherLevel) {
   const Experiment e = sweep(nlohmann::json::parse(R"({"factors": [
       {"key": "models.*.parameters.iterations", "values": [5, 20]},
       {"key": "models.hybrid.parameters.bending_angle", "values": ["unsigned", "signed"], "label": "angle"}]})"));
-  // "unsigned" is the default but the base does not state it: it runs (and must equal the base).
+  // "unsigned" is the default, which the base does not state: it is the base, run once.
   EXPECT_EQ(names(e), (std::vector<std::string>{"small", "small__iterations=5", "small__iterations=20",
-                                                "small__angle=unsigned", "small__angle=signed"}));
+                                                "small__angle=signed"}));
   const Scenario& s = e.scenarios[2];
   EXPECT_EQ(s.sweep_base, "small");
   EXPECT_EQ(s.sweep_values["iterations"], 20);
@@ -41,8 +41,8 @@ TEST_F(Sweeps, OneAtATimeRunsTheBaseOnceAndEachOtherLevel) {
     if (run.model != "fem") {
       EXPECT_EQ(run.parameters.integer("iterations"), 20) << run.case_name;
     }
-  EXPECT_EQ(e.scenarios[4].models[2].parameters.choice("bending_angle"), "signed");
-  EXPECT_EQ(e.scenarios[4].models[1].parameters.choice("bending_angle"), "unsigned");  // pbd untouched
+  EXPECT_EQ(e.scenarios[3].models[2].parameters.choice("bending_angle"), "signed");
+  EXPECT_EQ(e.scenarios[3].models[1].parameters.choice("bending_angle"), "unsigned");  // pbd untouched
   // The experiment index tells the analysis what each point set.
   const nlohmann::json index = e.to_json();
   EXPECT_EQ(index["scenarios"][1]["sweep"]["values"]["iterations"], 5);
@@ -57,6 +57,15 @@ TEST_F(Sweeps, GridIsEveryCombinationAndCasesCanBeKept) {
   EXPECT_EQ(e.scenarios[5].name, "small__target_nodes=40__iterations=15");
   EXPECT_EQ(e.scenarios[5].mesh.build.target_coarse_nodes, 40);
   for (const auto& s : e.scenarios) ASSERT_EQ(s.models.size(), 2u);
+}
+
+TEST_F(Sweeps, ArrayValuesAreNamedByValueNames) {
+  const Experiment e = sweep(nlohmann::json::parse(R"({"factors": [{"key": "mesh.coarse_selection.include_points",
+      "values": [[], [[0, 0, 0.1]]], "value_names": ["none", "load_point"], "label": "coarse_node_at"}]})"));
+  ASSERT_EQ(e.scenarios.size(), 2u);  // "none" resolves to the base
+  EXPECT_EQ(e.scenarios[1].name, "small__coarse_node_at=load_point");
+  ASSERT_EQ(e.scenarios[1].mesh.build.include_points.size(), 1u);
+  EXPECT_EQ(e.scenarios[1].mesh.build.include_points[0], Eigen::Vector3d(0, 0, 0.1));
 }
 
 TEST_F(Sweeps, ReferenceFactorKeepsOnlyTheReferenceCase) {
@@ -83,6 +92,9 @@ TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
   expect_sweep_error(R"({"factors": []})", "factors: must be a non-empty array");
   expect_sweep_error(R"({"factors": [{"key": "models.*.parameters.iterations", "values": [0]}]})",
                      "iterations: 0 is outside");
+  expect_sweep_error(R"({"factors": [{"key": "a.b", "values": [[1, 2]]}]})", "value_names: needed");
+  expect_sweep_error(R"({"factors": [{"key": "a.b", "values": [1], "value_names": ["a b"]}]})",
+                     "cannot be part of a folder name");
   expect_sweep_error(R"({"mode": "random", "factors": [{"key": "a.b", "values": [1]}]})", "mode");
   expect_sweep_error(R"({"cases": ["ghost"], "factors": [{"key": "a.b", "values": [1]}]})",
                      "names a case the base scenario does not have");
