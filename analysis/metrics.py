@@ -30,6 +30,30 @@ def pearson(a, b):
     return float((da * db).sum() / denom) if denom > 0 else float("nan")
 
 
+def spearman(a, b):
+    """Spearman rank correlation (Pearson of the ranks, ties averaged); nan if either is constant."""
+    from scipy.stats import rankdata
+    return pearson(rankdata(a), rankdata(b))
+
+
+def extended(u, u_ref, rest, load_point, exclude_radius=0.01):
+    """compare() plus Spearman correlations, and r(u_z) without the vertices within
+    `exclude_radius` (m) of the load point (the singular neighbourhood of a point load)."""
+    out = compare(u, u_ref, rest, load_point)
+    u, u_ref, rest = np.asarray(u, float), np.asarray(u_ref, float), np.asarray(rest, float)
+    out["spearman_uz"] = spearman(u[:, 2], u_ref[:, 2])
+    out["spearman_mag"] = spearman(np.linalg.norm(u, axis=1), np.linalg.norm(u_ref, axis=1))
+    far = np.linalg.norm(rest - np.asarray(load_point, float), axis=1) > exclude_radius
+    out["corr_uz_far"] = pearson(u[far, 2], u_ref[far, 2]) if far.sum() > 2 else float("nan")
+    out["rel_l2_far"] = (float(np.linalg.norm(u[far] - u_ref[far]) / np.linalg.norm(u_ref[far]))
+                         if far.any() and np.linalg.norm(u_ref[far]) > 0 else float("nan"))
+    # The "deformation region": vertices the reference moves by at least 5% of its largest displacement.
+    mag = np.linalg.norm(u_ref, axis=1)
+    region = mag >= 0.05 * mag.max() if mag.max() > 0 else np.zeros(len(mag), bool)
+    out["corr_uz_region"] = pearson(u[region, 2], u_ref[region, 2]) if region.sum() > 2 else float("nan")
+    return out
+
+
 def compare(u, u_ref, rest, load_point):
     """Metrics of u (#V x 3) against u_ref (#V x 3) at the same vertices.
 

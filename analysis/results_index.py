@@ -43,6 +43,7 @@ class Experiment:
         self.reference = index.get("reference") or None
         order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
         self.listed_cases = order  # {scenario: [cases]} as the experiment lists them, failed ones included
+        self.listed_points = index.get("scenarios", [])  # experiment.json's entries (name, cases, sweep)
         self.scenarios = {}
         for scenario in sorted(os.listdir(root)):
             sdir = os.path.join(root, scenario)
@@ -99,13 +100,14 @@ def load_point(case):
     return scenario["load"]["point"]
 
 
-def case_metrics(case, reference_case, observed="top_surface.csv"):
-    """metrics.compare of one case's displacements against another's, same vertices."""
+def case_metrics(case, reference_case, observed="top_surface.csv", extended=False):
+    """metrics.compare (or metrics.extended) of one case's displacements against
+    another's, at the same vertices."""
     _, rest, u_ref = metrics.read_displacements(os.path.join(reference_case["folder"], observed))
     _, rest2, u = metrics.read_displacements(os.path.join(case["folder"], observed))
     if rest.shape != rest2.shape or not (rest == rest2).all():
         raise ValueError(f"{case['folder']}: observed vertices differ from {reference_case['folder']}'s")
-    return metrics.compare(u, u_ref, rest, load_point(case))
+    return (metrics.extended if extended else metrics.compare)(u, u_ref, rest, load_point(case))
 
 
 def load_experiment(root):

@@ -186,3 +186,39 @@ TEST_F(Scenarios, AStaticSolveFarOutsideItsRangeSaysSo) {
 
 }  // namespace
 }  // namespace tb
+
+namespace tb {
+namespace {
+
+TEST_F(Scenarios, ADynamicCaseWritesAParaViewTimeSeriesWhenAsked) {
+  auto j = small_cube();
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.only_case = "pbd";
+  ASSERT_TRUE(run_experiment(load_experiment(write("s.json", j)), o).at(0).ok);
+  const fs::path pbd = dir / "out" / "small" / "small" / "pbd";
+  EXPECT_FALSE(fs::exists(pbd / "series")) << "off by default";
+  EXPECT_FALSE(fs::exists(pbd / "surface_series.pvd"));
+
+  j["output"] = {{"series_every", 7}};
+  const auto outcome = run_experiment(load_experiment(write("s.json", j)), o).at(0);
+  ASSERT_TRUE(outcome.ok) << outcome.error;
+  const std::string pvd = read_file((pbd / "surface_series.pvd").string());
+  // Frames 0, 7, 14, ... and the last (steady) frame, each a file that exists.
+  size_t datasets = 0, at = 0;
+  while ((at = pvd.find("<DataSet timestep=", at)) != std::string::npos) {
+    const size_t file = pvd.find("file=\"", at) + 6;
+    const std::string name = pvd.substr(file, pvd.find('"', file) - file);
+    EXPECT_TRUE(fs::exists(pbd / name)) << name;
+    ++datasets;
+    ++at;
+  }
+  EXPECT_EQ(datasets, static_cast<size_t>((outcome.frames - 1) / 7 + 1 + ((outcome.frames - 1) % 7 != 0)));
+  EXPECT_NE(pvd.find("timestep=\"0\" file=\"series/surface_000000.vtu\""), std::string::npos) << pvd;
+  j["output"] = {{"series_every", -1}};
+  expect_error(j, "output.series_every");
+}
+
+}  // namespace
+}  // namespace tb
