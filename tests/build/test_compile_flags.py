@@ -1,0 +1,81 @@
+"""The flags the project's libraries are really compiled with (compile_commands.json)
+are the ones it chooses and records in run.json (issue 18): the build type's
+optimisation level last, none of deal.II's flags outside the deal.II translation
+unit, and the recorded strings equal to what the compiler was given.
+
+Run by CTest with the build folder as argument.
+"""
+import json
+import os
+import shlex
+import subprocess
+import sys
+import unittest
+
+BUILD = os.environ.get("TB_BUILD_DIR", "build")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# Flags that only deal.II's configuration brings (DEAL_II_CXX_FLAGS and definitions).
+DEAL_II_ONLY = ["-funroll-all-loops", "-D_FORTIFY_SOURCE=2", "-DBOOST_NO_AUTO_PTR", "-fopenmp", "-pedantic"]
+DEAL_II_UNITS = ["models/fem/stiffness_assembly.cc"]
+
+
+def code_generation_flags(args):
+    """The flags that decide code generation: -O*, -f*, -m*, -g*, -std, in order."""
+    return [a for a in args if a.startswith(("-O", "-f", "-m", "-g", "-std"))]
+
+
+def commands():
+    with open(os.path.join(BUILD, "compile_commands.json")) as f:
+        for entry in json.load(f):
+            rel = os.path.relpath(entry["file"], ROOT)
+            yield rel, shlex.split(entry["command"])
+
+
+def recorded_flags():
+    out = subprocess.run([os.path.join(BUILD, "experiments", "tissuebench"), "build-info"], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out)["compiler_flags"]
+
+
+class CompileFlags(unittest.TestCase):
+    def test_last_optimisation_flag_is_the_build_types_and_no_deal_ii_flag_leaks(self):
+        checked = 0
+        for rel, args in commands():
+            if not rel.startswith(("models/", "meshing/", "experiments/")):
+                continue
+            levels = [a for a in args if a.startswith("-O")]
+            self.assertEqual(levels[-1], "-O3", f"{rel}: optimisation flags {levels}")
+            if rel in DEAL_II_UNITS:
+                continue
+            checked += 1
+            self.assertIn("-O3", levels, rel)
+            self.assertEqual(levels.count("-O2"), 0, f"{rel}: {levels}")
+            leaked = [a for a in args if a in DEAL_II_ONLY]
+            self.assertEqual(leaked, [], f"{rel}: deal.II flags {leaked}")
+        self.assertGreater(checked, 20)
+
+    def test_run_json_records_what_compiled_each_library(self):
+        recorded = recorded_flags()
+        groups = {"tb_models": lambda rel: rel.startswith("models/") and rel not in DEAL_II_UNITS and
+                  rel not in ("models/pbd/constraints.cc", "models/pbd/constraint_batches.cc"),
+                  "tb_models PBD kernel sources": lambda rel: rel in ("models/pbd/constraints.cc",
+                                                                      "models/pbd/constraint_batches.cc"),
+                  "tb_fem_assembly (deal.II)": lambda rel: rel in DEAL_II_UNITS,
+                  "tb_meshing": lambda rel: rel.startswith("meshing/"),
+                  "tb_experiments": lambda rel: rel.startswith("experiments/") and "benchmarks" not in rel and
+                  not rel.endswith("tissuebench_main.cc")}
+        for group, member in groups.items():
+            expected = code_generation_flags(shlex.split(recorded[group]))
+            sources = [(rel, args) for rel, args in commands() if member(rel)]
+            self.assertTrue(sources, group)
+            for rel, args in sources:
+                # The standard flag CMake adds from CMAKE_CXX_STANDARD is not a flag the project writes.
+                actual = [a for a in code_generation_flags(args) if not a.startswith("-std")]
+                self.assertEqual(actual, [a for a in expected if not a.startswith("-std")],
+                                 f"{rel} ({group}): compiled with {actual}, run.json records {expected}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1:
+        BUILD = sys.argv.pop(1)
+    unittest.main()
