@@ -48,6 +48,22 @@ struct Problem {
 /// #V_surface by 3 displacements of the fine-surface vertices.
 using Displacements = Points;
 
+/// Named phases of a frame (STYLE.md 10), the same names in every model; the
+/// runner writes each one's median and p95 to timings.json.
+namespace phase {
+inline constexpr const char* kSolve = "solve";               ///< a static model's solve (fem)
+inline constexpr const char* kCoarseSolve = "coarse_solve";  ///< hybrid: coarse K u = f, eq. (11)
+inline constexpr const char* kMapping = "mapping";           ///< hybrid: control points from the coarse u, eq. (33)
+inline constexpr const char* kProjection = "projection";     ///< PBD: pins (eq. 33) and constraint sweeps
+inline constexpr const char* kIntegration = "integration";   ///< PBD: eqs. (31)-(32), (34)-(35), displacements
+}  // namespace phase
+
+/// How long one phase of the last frame took.
+struct PhaseTime {
+  const char* name;  ///< one of tb::phase
+  double ms = 0;
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -59,6 +75,16 @@ class Model {
   virtual const Displacements& surface_displacement() const = 0;
   /// Solver iterations in the last step, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
+  /// The phases of the last step() with their times, in the order run (empty for a
+  /// model that does not split its frame). The list is fixed at setup: reading and
+  /// updating it allocates nothing.
+  virtual const std::vector<PhaseTime>& last_phase_times() const {
+    static const std::vector<PhaseTime> none;
+    return none;
+  }
+  /// What the model ran with beyond its parameters (e.g. the vector instruction
+  /// set of a SIMD kernel), for run.json; an object.
+  virtual nlohmann::json details() const { return nlohmann::json::object(); }
 };
 
 /// A registered model: its name, what it is, its parameters and how to make one.

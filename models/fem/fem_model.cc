@@ -1,5 +1,6 @@
 #include "fem_model.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "elastic_solver.h"
@@ -31,7 +32,9 @@ class FemModel : public Model {
       stencil_point_ = load.point;
       have_stencil_ = true;
     }
+    const auto start = std::chrono::steady_clock::now();
     solver_->solve(stencil_, load.force, u_);
+    phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
       surface_u_.row(static_cast<Eigen::Index>(v)) = u_.segment<3>(3 * surface_to_volume_[v]).transpose();
@@ -39,8 +42,10 @@ class FemModel : public Model {
 
   const Displacements& surface_displacement() const override { return surface_u_; }
   int last_iterations() const override { return solver_->last_iterations(); }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
 
  private:
+  std::vector<PhaseTime> phases_{{phase::kSolve}};
   std::unique_ptr<ElasticSolver> solver_;
   std::vector<int> surface_to_volume_;
   Eigen::VectorXd u_;

@@ -1,5 +1,6 @@
 #include "hybrid_model.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "elastic_solver.h"
@@ -39,8 +40,12 @@ class HybridModel : public Model {
       load_vertex_ = pbd::nearest_vertex(solver_->rest_positions(), load.point);
       load_point_ = load.point;
     }
+    using Clock = std::chrono::steady_clock;
+    using Ms = std::chrono::duration<double, std::milli>;
     // Step 2: coarse K u = f (eq. 11), control points' deformed positions p'_i.
+    const auto t0 = Clock::now();
     coarse_->solve(stencil_, load.force, coarse_u_);
+    const auto t1 = Clock::now();
     const Points& rest = solver_->rest_positions();
     const auto& T = coarse_->mesh().T;
     for (size_t k = 0; k < control_.size(); ++k) {
@@ -51,13 +56,23 @@ class HybridModel : public Model {
     }
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
+    const auto t2 = Clock::now();
     solver_->step(apply_force_to_surface_ ? load_vertex_ : -1, load.force, pinned_, pinned_positions_);
+    const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
+    const auto t4 = Clock::now();
+    phases_[0].ms = Ms(t1 - t0).count();
+    phases_[1].ms = Ms(t2 - t1).count();
+    phases_[2].ms = solver_->last_projection_ms();
+    phases_[3].ms = Ms(t3 - t2).count() - solver_->last_projection_ms() + Ms(t4 - t3).count();
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
+  nlohmann::json details() const override { return solver_->details(); }
 
  private:
+  std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
   std::unique_ptr<ElasticSolver> coarse_;
   Eigen::VectorXd coarse_u_;
   std::vector<ControlPoint> control_;

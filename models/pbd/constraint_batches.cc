@@ -36,11 +36,16 @@ std::vector<int> movable(const VertexRows<N>& vertices, const Eigen::VectorXd& w
   return kept;
 }
 
+/// The colour of overflowing constraints, whose members may share vertices.
+constexpr int kOverflowColour = 64;
+
 /// `kept` reordered by a greedy graph colouring (no two constraints of one colour
 /// share a vertex), keeping the original order within a colour, so that runs of
-/// consecutive constraints are independent and fill batches.
+/// consecutive constraints are independent and fill batches. `colour` gets the
+/// colour of each entry of the result (ascending).
 template <int N>
-std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<int>& kept, size_t vertex_count) {
+std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<int>& kept, size_t vertex_count,
+                              std::vector<int>& colour_of_ordered) {
   std::vector<uint64_t> used(vertex_count, 0);  // colours already taken at each vertex
   std::vector<int> colour(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) {
@@ -49,9 +54,9 @@ std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<i
     // The lowest free colour; a vertex with 64 colours around it (valence > 64 for
     // stretch) sends the rest to colour 64, whose constraints may share vertices:
     // the packing below then splits them into smaller batches.
-    const int c = ~taken ? __builtin_ctzll(~taken) : 64;
+    const int c = ~taken ? __builtin_ctzll(~taken) : kOverflowColour;
     colour[i] = c;
-    if (c < 64)
+    if (c < kOverflowColour)
       for (int j = 0; j < N; ++j) used[static_cast<size_t>(vertices(kept[i], j))] |= uint64_t{1} << c;
   }
   std::vector<size_t> by_colour(kept.size());
@@ -59,22 +64,31 @@ std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<i
   std::stable_sort(by_colour.begin(), by_colour.end(), [&](size_t a, size_t b) { return colour[a] < colour[b]; });
   std::vector<int> order;
   order.reserve(kept.size());
-  for (size_t i : by_colour) order.push_back(kept[i]);
+  colour_of_ordered.clear();
+  for (size_t i : by_colour) {
+    order.push_back(kept[i]);
+    colour_of_ordered.push_back(colour[i]);
+  }
   return order;
 }
 
 /// Consecutive constraints of `order` packed into batches; a batch closes when it
-/// is full or the next constraint shares a vertex with it. Padding lanes repeat
-/// lane 0's first vertex in every slot with inverse mass 0: degenerate, so their
-/// corrections are zero.
+/// is full, when the next constraint shares a vertex with it or is of another
+/// colour. Padding lanes repeat lane 0's first vertex in every slot with inverse
+/// mass 0: degenerate, so their corrections are zero.
 template <int N>
 std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd& rest, const std::vector<int>& order,
-                           const Eigen::VectorXd& w) {
+                           const std::vector<int>& colour, const Eigen::VectorXd& w,
+                           ConstraintBatches::Colours& colours) {
   std::vector<size_t> last_batch(static_cast<size_t>(w.size()), SIZE_MAX);  // the last batch using each vertex
   std::vector<Batch<N>> batches;
-  for (int i : order) {
-    bool fits = !batches.empty() && batches.back().count < kWidth;
+  colours = {};
+  for (size_t k = 0; k < order.size(); ++k) {
+    const int i = order[k];
+    const bool new_colour = k == 0 || colour[k] != colour[k - 1];
+    bool fits = !new_colour && batches.back().count < kWidth;
     for (int j = 0; j < N && fits; ++j) fits = last_batch[static_cast<size_t>(vertices(i, j))] != batches.size() - 1;
+    if (new_colour) colours.begin.push_back(batches.size());
     if (!fits) batches.push_back(Batch<N>{});
     Batch<N>& b = batches.back();
     const int l = b.count++;
@@ -92,6 +106,8 @@ std::vector<Batch<N>> pack(const VertexRows<N>& vertices, const Eigen::VectorXd&
       b.w[1][l] = share2;
     }
   }
+  colours.begin.push_back(batches.size());
+  colours.last_shares_vertices = !colour.empty() && colour.back() == kOverflowColour;
   for (Batch<N>& b : batches)
     for (int l = b.count; l < kWidth; ++l)
       for (int j = 0; j < N; ++j) b.q[j][l] = b.q[0][0];  // w and rest stay 0
@@ -174,40 +190,118 @@ TB_PBD_INLINE void scatter_corrected(double* x, const Batch<N>& b, const Triple<
   }
 }
 
+/// Projects one batch: x += the kernels' corrections (Apply), or records them
+/// in corr (nothing moved).
+template <class L>
+TB_PBD_INLINE void project_batch(double* x, const Batch<2>& b, double k, BendingAngle, Triple<L> p[2],
+                                 Triple<L> corr[2]) {
+  gather(x, b, p);
+  kernels::project_stretch(p[0], as_lanes<L>(b.w[0]), p[1], as_lanes<L>(b.w[1]), as_lanes<L>(b.rest), k, corr[0],
+                           corr[1]);
+}
+template <class L>
+TB_PBD_INLINE void project_batch(double* x, const Batch<4>& b, double k, BendingAngle kind, Triple<L> p[4],
+                                 Triple<L> corr[4]) {
+  gather(x, b, p);
+  const L w[4] = {as_lanes<L>(b.w[0]), as_lanes<L>(b.w[1]), as_lanes<L>(b.w[2]), as_lanes<L>(b.w[3])};
+  kernels::project_bending(p, w, as_lanes<L>(b.rest), k, kind, corr);
+}
+
+/// What a sweep needs; `team` may be null (one member).
 struct SweepArgs {
   const std::vector<Batch<2>>& stretch;
   const std::vector<Batch<4>>& bending;
+  const ConstraintBatches::Colours& stretch_colours;
+  const ConstraintBatches::Colours& bending_colours;
   double* x;
-  bool reverse;
+  int iterations;
+  bool first_reverse;
   double k_stretch, k_bend;
   BendingAngle kind;
+  ThreadTeam* team;
 };
 
-/// The sweep, compiled once per instruction set by the functions below.
-template <class L>
-TB_PBD_INLINE void sweep_batches(const SweepArgs& a) {
-  const size_t ns = a.stretch.size(), nb = a.bending.size();
-  for (size_t k = 0; k < ns; ++k) {
-    const Batch<2>& b = a.stretch[a.reverse ? ns - 1 - k : k];
-    Triple<L> p[2], corr[2];
-    gather(a.x, b, p);
-    kernels::project_stretch(p[0], as_lanes<L>(b.w[0]), p[1], as_lanes<L>(b.w[1]), as_lanes<L>(b.rest), a.k_stretch,
-                             corr[0], corr[1]);
-    scatter_corrected(a.x, b, p, corr);
-  }
-  if (a.k_bend <= 0) return;
-  for (size_t k = 0; k < nb; ++k) {
-    const Batch<4>& b = a.bending[a.reverse ? nb - 1 - k : k];
-    Triple<L> p[4], corr[4];
-    gather(a.x, b, p);
-    const L w[4] = {as_lanes<L>(b.w[0]), as_lanes<L>(b.w[1]), as_lanes<L>(b.w[2]), as_lanes<L>(b.w[3])};
-    kernels::project_bending(p, w, as_lanes<L>(b.rest), a.k_bend, a.kind, corr);
-    scatter_corrected(a.x, b, p, corr);
+/// One member's part of a sweep over one kind of constraint: of each colour (in
+/// order, or reversed), its share of the batches, then a barrier. A colour whose
+/// constraints may share vertices is swept by member 0 alone.
+template <class L, int N>
+TB_PBD_INLINE void sweep_colours(const SweepArgs& a, const std::vector<Batch<N>>& batches,
+                                 const ConstraintBatches::Colours& colours, double k, bool reverse, int member,
+                                 int members) {
+  const size_t colour_count = colours.begin.size() - 1;
+  for (size_t c = 0; c < colour_count; ++c) {
+    const size_t colour = reverse ? colour_count - 1 - c : c;
+    const size_t begin = colours.begin[colour], count = colours.begin[colour + 1] - begin;
+    const bool alone = colours.last_shares_vertices && colour == colour_count - 1;
+    const size_t from = alone ? (member == 0 ? 0 : count) : count * static_cast<size_t>(member) / members,
+                 to = alone ? (member == 0 ? count : count) : count * static_cast<size_t>(member + 1) / members;
+    for (size_t i = from; i < to; ++i) {
+      const Batch<N>& b = batches[begin + (reverse ? to - 1 - (i - from) : i)];
+      Triple<L> p[N], corr[N];
+      project_batch(a.x, b, k, a.kind, p, corr);
+      scatter_corrected(a.x, b, p, corr);
+    }
+    if (members > 1) a.team->barrier();
   }
 }
 
-void sweep_sse2(const SweepArgs& a) { sweep_batches<SseLanes>(a); }
-__attribute__((target("avx"))) void sweep_avx(const SweepArgs& a) { sweep_batches<Lanes>(a); }
+/// Member `member`'s part of every sweep, compiled once per instruction set by the
+/// functions below.
+template <class L>
+TB_PBD_INLINE void sweep_batches(const SweepArgs& a, int member) {
+  const int members = a.team ? a.team->size() : 1;
+  for (int it = 0; it < a.iterations; ++it) {
+    const bool reverse = a.first_reverse != (it % 2 == 1);
+    sweep_colours<L>(a, a.stretch, a.stretch_colours, a.k_stretch, reverse, member, members);
+    if (a.k_bend > 0) sweep_colours<L>(a, a.bending, a.bending_colours, a.k_bend, reverse, member, members);
+  }
+}
+
+void sweep_sse2(const SweepArgs& a, int member) { sweep_batches<SseLanes>(a, member); }
+__attribute__((target("avx"))) void sweep_avx(const SweepArgs& a, int member) { sweep_batches<Lanes>(a, member); }
+
+/// The corrections of every lane of every batch, stored by constraint row.
+template <class L, int N>
+TB_PBD_INLINE void record_corrections(const double* x, const std::vector<Batch<N>>& batches,
+                                      const std::vector<int>& order, double k, BendingAngle kind,
+                                      Eigen::MatrixXd& out) {
+  size_t next = 0;  // position in `order` of the batch's lane 0
+  for (const Batch<N>& b : batches) {
+    Triple<L> p[N], corr[N];
+    project_batch(const_cast<double*>(x), b, k, kind, p, corr);  // gather only reads
+    for (int j = 0; j < N; ++j) {
+      double xyz[3][kWidth];
+      store(corr[j].x, xyz[0]);
+      store(corr[j].y, xyz[1]);
+      store(corr[j].z, xyz[2]);
+      for (int l = 0; l < b.count; ++l)
+        for (int d = 0; d < 3; ++d) out(order[next + static_cast<size_t>(l)], 3 * j + d) = xyz[d][l];
+    }
+    next += static_cast<size_t>(b.count);
+  }
+}
+
+struct CorrectionArgs {
+  const ConstraintBatches& batches;
+  const std::vector<Batch<2>>& stretch;
+  const std::vector<Batch<4>>& bending;
+  const double* x;
+  double k_stretch, k_bend;
+  BendingAngle kind;
+  Eigen::MatrixXd &stretch_corr, &bending_corr;
+};
+template <class L>
+TB_PBD_INLINE void corrections_of(const CorrectionArgs& a) {
+  record_corrections<L>(a.x, a.stretch, a.batches.stretch_order(), a.k_stretch, a.kind, a.stretch_corr);
+  record_corrections<L>(a.x, a.bending, a.batches.bending_order(), a.k_bend, a.kind, a.bending_corr);
+}
+void corrections_sse2(const CorrectionArgs& a) { corrections_of<SseLanes>(a); }
+__attribute__((target("avx"))) void corrections_avx(const CorrectionArgs& a) { corrections_of<Lanes>(a); }
+
+void check_instruction_set(InstructionSet isa) {
+  if (isa == InstructionSet::Avx && best_instruction_set() != InstructionSet::Avx)
+    throw std::invalid_argument("PBD sweep: this CPU has no AVX");
+}
 
 }  // namespace
 
@@ -219,21 +313,56 @@ InstructionSet best_instruction_set() {
 const char* name(InstructionSet isa) { return isa == InstructionSet::Avx ? "avx" : "sse2"; }
 
 ConstraintBatches::ConstraintBatches(const ConstraintSet& c, const Eigen::VectorXd& w)
-    : stretch_order_(colour_order(c.stretch, movable(c.stretch, w), static_cast<size_t>(w.size()))),
-      bending_order_(colour_order(c.bending, movable(c.bending, w), static_cast<size_t>(w.size()))) {
-  stretch_ = pack(c.stretch, c.stretch_rest, stretch_order_, w);
-  bending_ = pack(c.bending, c.bending_rest, bending_order_, w);
+    : stretch_rows_(c.stretch.rows()), bending_rows_(c.bending.rows()) {
+  const size_t vertex_count = static_cast<size_t>(w.size());
+  std::vector<int> colour;
+  stretch_order_ = colour_order(c.stretch, movable(c.stretch, w), vertex_count, colour);
+  stretch_ = pack(c.stretch, c.stretch_rest, stretch_order_, colour, w, stretch_colours_);
+  bending_order_ = colour_order(c.bending, movable(c.bending, w), vertex_count, colour);
+  bending_ = pack(c.bending, c.bending_rest, bending_order_, colour, w, bending_colours_);
 }
 
 void ConstraintBatches::sweep(double* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
                               InstructionSet isa) const {
-  if (isa == InstructionSet::Avx && best_instruction_set() != InstructionSet::Avx)
-    throw std::invalid_argument("PBD sweep: this CPU has no AVX");
-  const SweepArgs args{stretch_, bending_, positions, reverse, k_stretch, k_bend, kind};
+  check_instruction_set(isa);
+  const SweepArgs args{stretch_, bending_, stretch_colours_, bending_colours_, positions, 1, reverse, k_stretch,
+                       k_bend,   kind,     nullptr};
   if (isa == InstructionSet::Avx)
-    sweep_avx(args);
+    sweep_avx(args, 0);
   else
-    sweep_sse2(args);
+    sweep_sse2(args, 0);
+}
+
+void ConstraintBatches::project(double* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind,
+                                InstructionSet isa, ThreadTeam* team) const {
+  check_instruction_set(isa);
+  if (team && team->size() == 1) team = nullptr;
+  const SweepArgs args{stretch_,   bending_, stretch_colours_, bending_colours_, positions,
+                       iterations, false,    k_stretch,        k_bend,           kind,
+                       team};
+  auto member_sweeps = [&args, isa](int member) {
+    if (isa == InstructionSet::Avx)
+      sweep_avx(args, member);
+    else
+      sweep_sse2(args, member);
+  };
+  if (team)
+    team->run(member_sweeps);
+  else
+    member_sweeps(0);
+}
+
+void ConstraintBatches::corrections(const double* positions, double k_stretch, double k_bend, BendingAngle kind,
+                                    InstructionSet isa, Eigen::MatrixXd& stretch_corr,
+                                    Eigen::MatrixXd& bending_corr) const {
+  check_instruction_set(isa);
+  stretch_corr = Eigen::MatrixXd::Zero(stretch_rows_, 6);
+  bending_corr = Eigen::MatrixXd::Zero(bending_rows_, 12);
+  const CorrectionArgs args{*this, stretch_, bending_, positions, k_stretch, k_bend, kind, stretch_corr, bending_corr};
+  if (isa == InstructionSet::Avx)
+    corrections_avx(args);
+  else
+    corrections_sse2(args);
 }
 
 }  // namespace tb::pbd

@@ -4,6 +4,9 @@
 // Because the constraints of a batch are independent, projecting them together
 // gives bitwise the result of projecting them one after another in the batches'
 // order (tests/models/pbd/constraint_batches_test.cc), on either instruction set.
+// Batches never straddle two colours, and no two constraints of one colour share a
+// vertex, so a colour's batches can be split between threads (thread_team.h)
+// without changing a bit of the result.
 #pragma once
 
 #include <Eigen/Core>
@@ -11,6 +14,7 @@
 
 #include "constraints.h"
 #include "lane_math.h"
+#include "thread_team.h"
 
 namespace tb::pbd {
 
@@ -59,12 +63,29 @@ class ConstraintBatches {
   void sweep(double* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
              InstructionSet isa) const;
 
+  /// `iterations` sweeps, alternately forward and reverse (symmetric Gauss-Seidel),
+  /// each colour's batches split between the members of `team` (null: this thread
+  /// alone). The result is bitwise the same for any team size.
+  void project(double* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind,
+               InstructionSet isa, ThreadTeam* team) const;
+
+  /// The kernels' corrections of every constraint at `positions`, nothing moved
+  /// (all constraints projected from the same positions): for comparing the SIMD
+  /// kernels with the scalar reference (reference_projections.h).
+  ///   stretch_corr  #S by 6 (dp1, dp2) per ConstraintSet stretch row, bending_corr
+  ///                 #B by 12 (dp1..dp4) per bending row; zero for rows not kept
+  void corrections(const double* positions, double k_stretch, double k_bend, BendingAngle kind, InstructionSet isa,
+                   Eigen::MatrixXd& stretch_corr, Eigen::MatrixXd& bending_corr) const;
+
   /// The order of projection (forward sweep): indices of rows of the
   /// ConstraintSet's stretch and bending constraints.
   const std::vector<int>& stretch_order() const { return stretch_order_; }
   const std::vector<int>& bending_order() const { return bending_order_; }
   size_t stretch_batch_count() const { return stretch_.size(); }
   size_t bending_batch_count() const { return bending_.size(); }
+  /// Colours: batches [begin[c], begin[c + 1]) hold colour c (Colours below).
+  const std::vector<size_t>& stretch_colour_begin() const { return stretch_colours_.begin; }
+  const std::vector<size_t>& bending_colour_begin() const { return bending_colours_.begin; }
 
   /// N constraint vertices per lane; lanes at and beyond `count` are padding
   /// (inverse masses 0, vertices of lane 0), computed but not written back.
@@ -78,10 +99,23 @@ class ConstraintBatches {
     int count;
   };
 
+  /// Where each colour's batches start (begin.back() = batch count). A vertex of
+  /// valence beyond the colouring's 64 colours sends constraints to a last colour
+  /// whose members may share vertices: then `last_shares_vertices`, and one thread
+  /// sweeps it.
+  struct Colours {
+    std::vector<size_t> begin;
+    bool last_shares_vertices = false;
+  };
+  const std::vector<Batch<2>>& stretch_batches() const { return stretch_; }
+  const std::vector<Batch<4>>& bending_batches() const { return bending_; }
+
  private:
   std::vector<Batch<2>> stretch_;
   std::vector<Batch<4>> bending_;
   std::vector<int> stretch_order_, bending_order_;
+  Colours stretch_colours_, bending_colours_;
+  Eigen::Index stretch_rows_, bending_rows_;  // of the ConstraintSet
 };
 
 }  // namespace tb::pbd

@@ -1,5 +1,7 @@
 #include "pbd_model.h"
 
+#include <chrono>
+
 #include "pbd_solver.h"
 
 namespace tb {
@@ -20,16 +22,23 @@ class PbdModel : public Model {
       load_point_ = load.point;
     }
     solver_->step(load_vertex_, load.force, no_pins_, no_pin_positions_);
+    const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
+    const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    phases_[0].ms = solver_->last_projection_ms();
+    phases_[1].ms = solver_->last_integration_ms() + rest_ms;
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
+  nlohmann::json details() const override { return solver_->details(); }
 
  private:
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
   int load_vertex_ = -1;
   Eigen::Vector3d load_point_;
+  std::vector<PhaseTime> phases_{{phase::kProjection}, {phase::kIntegration}};
   const std::vector<int> no_pins_;
   const Points no_pin_positions_;
 };

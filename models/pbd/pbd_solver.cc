@@ -2,11 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <stdexcept>
 
 #include "constraints.h"
 #include "mesh_checks.h"
+#include "reference_projections.h"
 
 namespace tb::pbd {
 namespace {
@@ -42,6 +44,22 @@ std::vector<ParameterSpec> parameter_specs() {
        "signed: theta - theta0, smooth there",
        {"unsigned", "signed"},
        "unsigned"},
+      {"kernels",
+       0,
+       0,
+       0,
+       "simd: the batched vector kernels (projection_kernels.h); reference: the scalar projections written from "
+       "eqs. (14)-(30) (reference_projections.h), one constraint at a time in the same order, one thread",
+       {"simd", "reference"},
+       "simd"},
+      {"threads",
+       1,
+       1,
+       64,
+       "threads sweeping each colour's constraints (the result does not depend on it)",
+       {},
+       {},
+       true},
   };
 }
 
@@ -54,6 +72,11 @@ Settings Settings::from(const Parameters& p) {
   s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
   s.damping = p.number("damping");
   s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
+  s.kernels = p.choice("kernels") == "reference" ? Kernels::Reference : Kernels::Simd;
+  s.threads = p.integer("threads");
+  if (s.kernels == Kernels::Reference && s.threads != 1)
+    throw std::invalid_argument(
+        "PBD parameters: kernels 'reference' runs on one thread (threads = " + std::to_string(s.threads) + " given)");
   return s;
 }
 
@@ -118,22 +141,65 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
+  if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
+  if (s_.kernels == Kernels::Reference && s_.threads != 1)
+    throw std::invalid_argument("PBD solver: the reference kernels run on one thread");
+  if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
 }
 
 void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
                   const Points& pinned_positions) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   const double dt = s_.time_step;
   if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
   v_ *= (1 - s_.damping);
   p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  const auto t1 = Clock::now();
   for (size_t k = 0; k < pinned.size(); ++k)
     p_.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
-  for (int it = 0; it < s_.iterations; ++it)
-    batches_.sweep(p_.data(), it % 2 == 1, k_stretch_, k_bend_, s_.bending_angle, isa_);
+  if (s_.kernels == Kernels::Simd)
+    batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+  else
+    for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
+  const auto t2 = Clock::now();
   v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
   x_ = p_.matrix().leftCols<3>();              // eq. (34)
+  const auto t3 = Clock::now();
+  using Ms = std::chrono::duration<double, std::milli>;
+  projection_ms_ = Ms(t2 - t1).count();
+  integration_ms_ = Ms(t1 - t0).count() + Ms(t3 - t2).count();
+}
+
+nlohmann::json Solver::details() const {
+  return {{"instruction_set", s_.kernels == Kernels::Reference ? "scalar" : name(isa_)}, {"threads", s_.threads}};
+}
+
+void Solver::reference_sweep(bool reverse) {
+  double* x = p_.data();
+  auto P = [x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * Eigen::Index{v}); };
+  const std::vector<int>& so = batches_.stretch_order();
+  for (size_t k = 0; k < so.size(); ++k) {
+    const int i = so[reverse ? so.size() - 1 - k : k];
+    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
+    Vec3 ca, cb;
+    reference::project_stretch(P(a), w_(a), P(b), w_(b), c_.stretch_rest(i), k_stretch_, ca, cb);
+    P(a) += ca;
+    P(b) += cb;
+  }
+  if (k_bend_ <= 0) return;
+  const std::vector<int>& bo = batches_.bending_order();
+  for (size_t k = 0; k < bo.size(); ++k) {
+    const int i = bo[reverse ? bo.size() - 1 - k : k];
+    int q[4];
+    for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
+    Vec3 corr[4];
+    reference::project_bending(P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]),
+                               c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
+    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
+  }
 }
 
 }  // namespace tb::pbd

@@ -4,17 +4,24 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "constraint_batches.h"
 #include "constraints.h"
 #include "mesh_types.h"
 #include "parameters.h"
+#include "thread_team.h"
 
 namespace tb::pbd {
 
 /// The PBD parameters common to the pbd and hybrid models, declared once.
 std::vector<ParameterSpec> parameter_specs();
+
+/// Which implementation projects the constraints: the batched SIMD kernels
+/// (projection_kernels.h) or the scalar reference written from the equations
+/// (reference_projections.h), one constraint at a time in the same order.
+enum class Kernels { Simd, Reference };
 
 struct Settings {
   double time_step = 0.01;                              ///< s
@@ -24,6 +31,8 @@ struct Settings {
   bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
   double damping = 0.05;                                ///< fraction of velocity removed per frame
   BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
+  Kernels kernels = Kernels::Simd;
+  int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
   static Settings from(const Parameters& p);
 };
 
@@ -67,6 +76,14 @@ class Solver {
   InstructionSet instruction_set() const { return isa_; }
   /// Run the projection with `isa` instead of the best this CPU has.
   void use_instruction_set(InstructionSet isa) { isa_ = isa; }
+  const Settings& settings() const { return s_; }
+  /// Time (ms) the last step() spent in the projection (eq. 33 and the sweeps) and
+  /// in the rest of the time step (eqs. 31-32, 34-35).
+  double last_projection_ms() const { return projection_ms_; }
+  double last_integration_ms() const { return integration_ms_; }
+  /// What the projection ran with, for run.json: {"instruction_set": "avx" | "sse2"
+  /// | "scalar" (reference kernels), "threads": n}.
+  nlohmann::json details() const;
 
  private:
   Points rest_, x_, v_;
@@ -77,6 +94,10 @@ class Solver {
   InstructionSet isa_;
   Settings s_;
   double k_stretch_, k_bend_;
+  std::unique_ptr<ThreadTeam> team_;  // null with one thread
+  double projection_ms_ = 0, integration_ms_ = 0;
+  /// One sweep with the reference projections, in the batches' order.
+  void reference_sweep(bool reverse);
 };
 
 }  // namespace tb::pbd

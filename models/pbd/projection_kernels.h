@@ -11,7 +11,6 @@
 namespace tb::pbd::kernels {
 
 using lanes::Triple;
-constexpr double kTiny = 1e-30;
 
 /// Signed angle theta between the wing normals, turning about the edge p2 - p1,
 /// and (if grad) its gradient; |theta| = arccos(n1 . n2). The normals are
@@ -86,7 +85,8 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
 /// Bending projection: dp_i = -s w_i C / (sum_j w_j |grad_j C|^2) grad_i C (eq. 13
 /// with masses; the paper's eq. (26) with its extra factor 4 is Mueller 2007's
 /// typo, not used), C as `kind` says (constraints.h). rest_angle is the signed
-/// rest angle theta0. The mask is false (zero corrections) where nothing moves.
+/// rest angle theta0. The mask is false (zero corrections) where nothing moves:
+/// degenerate, or the denominator at or below kTiny or kNoiseGradient of its scale.
 template <class T>
 TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_angle, double stiffness,
                                    BendingAngle kind, Triple<T> corr[4]) {
@@ -98,9 +98,13 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
     sign = lanes::select(theta < T{}, lanes::splat<T>(-1), sign);
     c = lanes::abs(theta) - lanes::abs(rest_angle);
   }
-  T denom{};
-  for (int k = 0; k < 4; ++k) denom += w[k] * dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
-  ok = ok & (denom > lanes::splat<T>(kTiny));
+  T denom{}, largest{};
+  for (int k = 0; k < 4; ++k) {
+    const T g2 = dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
+    denom += w[k] * g2;
+    largest = lanes::select(g2 > largest, g2, largest);
+  }
+  ok = ok & (denom > lanes::splat<T>(kTiny)) & (denom > kNoiseGradient * ((w[0] + w[1] + w[2] + w[3]) * largest));
   // The reciprocal of denom does not wait for the angle (c): off the critical path.
   const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
   const T s = lanes::select(ok, -stiffness * c * inv_denom, T{}) * sign;

@@ -38,11 +38,13 @@ TEST_P(AllocationFreeFrame, StepAllocatesNothingAfterTheFirstFrame) {
 
 INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame,
                          ::testing::Values(Case{"fem", {{"solver", "direct"}}}, Case{"fem", {{"solver", "iterative"}}},
-                                           Case{"pbd", {}}, Case{"hybrid", {}}),
+                                           Case{"pbd", {}}, Case{"hybrid", {}}, Case{"pbd", {{"threads", 2}}},
+                                           Case{"hybrid", {{"threads", 2}}}, Case{"pbd", {{"kernels", "reference"}}}),
                          [](const ::testing::TestParamInfo<Case>& i) {
-                           return i.param.model + (i.param.parameters.contains("solver")
-                                                       ? "_" + i.param.parameters["solver"].get<std::string>()
-                                                       : std::string());
+                           std::string name = i.param.model;
+                           for (const auto& [key, value] : i.param.parameters.items())
+                             name += "_" + (value.is_string() ? value.get<std::string>() : key + value.dump());
+                           return name;
                          });
 
 }  // namespace

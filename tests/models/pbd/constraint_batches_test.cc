@@ -138,6 +138,94 @@ TEST(ConstraintBatches, SweepEqualsOneAtATimeProjectionBitwiseOnEveryInstruction
     }
 }
 
+/// Within each colour (batches [begin[c], begin[c + 1])), no vertex is used by two
+/// constraints: what lets threads split a colour. Returns the colour count.
+template <int N, class Rows>
+size_t expect_colours_independent(const std::vector<ConstraintBatches::Batch<N>>& batches,
+                                  const std::vector<size_t>& begin, const std::vector<int>& order, const Rows& vertices,
+                                  Eigen::Index vertex_count) {
+  EXPECT_EQ(begin.front(), 0u);
+  EXPECT_EQ(begin.back(), batches.size());
+  size_t next = 0;  // position in `order` of the current batch's lane 0
+  for (size_t c = 0; c + 1 < begin.size(); ++c) {
+    std::vector<char> used(static_cast<size_t>(vertex_count), 0);
+    for (size_t b = begin[c]; b < begin[c + 1]; ++b) {
+      EXPECT_GT(batches[b].count, 0);
+      for (int l = 0; l < batches[b].count; ++l, ++next)
+        for (int j = 0; j < N; ++j) {
+          const int v = vertices(order[next], j);
+          EXPECT_EQ(batches[b].q[j][l], v);
+          EXPECT_FALSE(used[static_cast<size_t>(v)]) << "colour " << c << " uses vertex " << v << " twice";
+          used[static_cast<size_t>(v)] = 1;
+        }
+    }
+  }
+  EXPECT_EQ(next, order.size());
+  return begin.size() - 1;
+}
+
+TEST(ConstraintBatches, BatchesNeverStraddleColoursAndAColourSharesNoVertex) {
+  const DisturbedCube cube;
+  const ConstraintBatches batches(cube.constraints, cube.inverse_mass);
+  const Eigen::Index n = cube.surface.V.rows();
+  const size_t stretch_colours = expect_colours_independent(batches.stretch_batches(), batches.stretch_colour_begin(),
+                                                            batches.stretch_order(), cube.constraints.stretch, n);
+  const size_t bending_colours = expect_colours_independent(batches.bending_batches(), batches.bending_colour_begin(),
+                                                            batches.bending_order(), cube.constraints.bending, n);
+  RecordProperty("stretch_colours", std::to_string(stretch_colours));
+  RecordProperty("bending_colours", std::to_string(bending_colours));
+}
+
+TEST(ConstraintBatches, ProjectionIsBitwiseTheSameOnAnyNumberOfThreads) {
+  const DisturbedCube cube;
+  const ConstraintBatches batches(cube.constraints, cube.inverse_mass);
+  PaddedPoints start = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+  start.leftCols<3>() = cube.positions;
+  for (InstructionSet isa : {InstructionSet::Sse2, best_instruction_set()}) {
+    PaddedPoints one = start;
+    batches.project(one.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+    // The same as six single sweeps, alternating direction.
+    PaddedPoints swept = start;
+    for (int it = 0; it < 6; ++it) batches.sweep(swept.data(), it % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned, isa);
+    EXPECT_EQ((one - swept).cwiseAbs().maxCoeff(), 0.0);
+    for (int threads : {1, 2, 3, 5}) {
+      ThreadTeam team(threads);
+      PaddedPoints many = start;
+      for (int repeat = 0; repeat < 3; ++repeat) {  // the team is reused
+        many = start;
+        batches.project(many.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+      }
+      EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << name(isa);
+    }
+  }
+}
+
+TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
+  const DisturbedCube cube;
+  const int load_vertex = nearest_vertex(cube.surface.V, Vec3(0, 0, 0.1));
+  Points reference;
+  for (int threads : {1, 2, 4}) {
+    Settings s;
+    s.threads = threads;
+    Solver solver(cube.surface, cube.inverse_mass, s);
+    // Pins as in the hybrid: a few vertices moved each frame.
+    const std::vector<int> pinned = {load_vertex + 1, load_vertex + 2};
+    Points pinned_positions(2, 3);
+    for (int f = 0; f < 30; ++f) {
+      for (int k = 0; k < 2; ++k)
+        pinned_positions.row(k) =
+            cube.surface.V.row(pinned[static_cast<size_t>(k)]) + Eigen::RowVector3d(0, 0, 1e-4 * f);
+      solver.step(load_vertex, Vec3(0, 0, 1), pinned, pinned_positions);
+    }
+    if (threads == 1)
+      reference = solver.positions();
+    else
+      EXPECT_EQ((solver.positions() - reference).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+    EXPECT_EQ(solver.details()["threads"], threads);
+  }
+  EXPECT_GT((reference - cube.surface.V).cwiseAbs().maxCoeff(), 1e-4);
+}
+
 TEST(ConstraintBatches, ConstraintOnAVertexWithoutInverseMassIsAnError) {
   const DisturbedCube cube;
   const Eigen::VectorXd too_few = cube.inverse_mass.head(10);
