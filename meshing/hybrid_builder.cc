@@ -8,6 +8,7 @@
 #include "mesh_error.h"
 #include "point_location.h"
 #include "vertex_selection.h"
+#include "winding_number_tree.h"
 
 namespace tb {
 namespace {
@@ -88,10 +89,11 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
 
   // Remove coarse tets outside the surface (a Delaunay mesh fills the convex hull).
   std::vector<int> inside;
+  const WindingNumberTree winding_number(surface);
   for (Eigen::Index t = 0; t < hull.T.rows(); ++t) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int k = 0; k < 4; ++k) centroid += hull.V.row(hull.T(t, k)).transpose() / 4.0;
-    if (winding_number(surface, centroid) > 0.5) inside.push_back(static_cast<int>(t));
+    if (winding_number(centroid) > 0.5) inside.push_back(static_cast<int>(t));
   }
   std::vector<int> new_index;
   h.coarse_volume = compact(hull, inside, new_index);
@@ -123,8 +125,9 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
     h.fine_surface_to_volume = surface_to_volume_identity(surface);
   }
   std::vector<ControlPoint> embedding(static_cast<size_t>(surface.V.rows()));
+  const TetLocator locator(coarse);
   for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
-    const TetEmbedding e = locate_point(coarse, surface.V.row(v).transpose());
+    const TetEmbedding e = locator.locate(surface.V.row(v).transpose());
     embedding[static_cast<size_t>(v)] = {static_cast<int>(v), e.tet, e.weights};
   }
   std::vector<int> chosen;
@@ -146,8 +149,9 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
 
 double max_embedding_distance(const HybridMesh& h) {
   double worst = 0;
+  const TetLocator locator(h.coarse_volume);
   for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
-    worst = std::max(worst, locate_point(h.coarse_volume, h.fine_surface.V.row(v).transpose()).distance);
+    worst = std::max(worst, locator.locate(h.fine_surface.V.row(v).transpose()).distance);
   return worst;
 }
 
