@@ -276,9 +276,16 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         progress.line(s.name + ": preparing meshes");
         MeshReport report;
         bool cached = false;
+        const auto build_start = Clock::now();
         mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+        const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
         if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
         summary = report.to_json(*mesh);
+        // How long building took and the process's peak memory after it (an upper
+        // bound of the build's own when it is the process's first and largest).
+        summary["build_seconds"] = build_seconds;
+        summary["read_from_cache"] = cached;
+        summary["process_peak_memory_mib_after_build"] = process_peak_memory_mib();
         it = meshes.emplace(key, BuiltMesh{mesh, report, summary}).first;
         progress.line(s.name + ": " + std::to_string(mesh->fine_surface.V.rows()) + " surface vertices, " +
                       std::to_string(mesh->fine_volume.T.rows()) + " fine tets, " +

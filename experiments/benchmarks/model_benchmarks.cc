@@ -4,6 +4,7 @@
 //      --benchmark_out_format=json (scripts/benchmark does this).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -14,6 +15,7 @@
 #include "model.h"
 #include "pbd_solver.h"
 #include "scenario.h"
+#include "thread_team.h"
 
 namespace tb {
 namespace {
@@ -66,6 +68,29 @@ const HybridMesh& surface_only_cube(int n) {
   return *m;
 }
 
+/// A cube of n divisions per side as a hybrid mesh built from its surface (paper
+/// 1.2: TetGen without a volume bound, coverage selection aimed at
+/// `coarse_nodes`). Cached.
+const HybridMesh& scaled_cube(int n, int coarse_nodes) {
+  static std::map<std::pair<int, int>, std::unique_ptr<HybridMesh>> cache;
+  auto& m = cache[{n, coarse_nodes}];
+  if (!m) {
+    HybridBuildOptions o;
+    o.fine_tetgen.radius_edge_ratio = 1.414;
+    o.target_coarse_nodes = coarse_nodes;
+    m = std::make_unique<HybridMesh>(build_hybrid_from_surface(make_cube_surface({0.1, 0.1, n, n, n}), o, "cube"));
+  }
+  return *m;
+}
+
+/// The paper cube's load with its force scaled by 682 / #V, so that the loaded
+/// vertex (mass ~ 1 / #V) accelerates as on the paper's cube (682 vertices).
+PointLoad scaled_cube_load(const HybridMesh& mesh) {
+  PointLoad load = kCubeLoad;
+  load.force *= 682.0 / static_cast<double>(mesh.fine_surface.V.rows());
+  return load;
+}
+
 /// The fine-mesh solver of benchmark argument "solver": 0 direct, 1 CG with
 /// incomplete Cholesky, 2 CG with the two-level preconditioner on the cube's coarse
 /// (hybrid) mesh.
@@ -108,9 +133,10 @@ void BM_FemFrame(benchmark::State& state) {
 }
 
 std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
-                                  int iterations) {
+                                  int iterations, nlohmann::json parameters = nlohmann::json::object()) {
   const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, {{"iterations", iterations}}, name)};
+  parameters["iterations"] = iterations;
+  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
   auto m = info.create();
   m->setup(p);
   return m;
@@ -158,15 +184,88 @@ void BM_HybridCoarseSolve(benchmark::State& state) {
   state.counters["dofs"] = static_cast<double>(3 * h.coarse_volume.V.rows());
 }
 
-/// PBD cost against surface size: range(0) divisions per cube side.
+/// PBD cost against surface size: range(0) divisions per cube side, range(1)
+/// threads sweeping each colour.
 void BM_PbdFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
-  auto m = make_model("pbd", mesh, kCubeBottom, 10);
-  for (auto _ : state) m->step(kCubeLoad);
+  auto m = make_model("pbd", mesh, kCubeBottom, 10, {{"threads", state.range(1)}});
+  const PointLoad load = scaled_cube_load(mesh);
+  for (int f = 0; f < 20; ++f) m->step(load);
+  for (auto _ : state) m->step(load);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.counters["ns_per_vertex"] =
       benchmark::Counter(static_cast<double>(mesh.fine_surface.V.rows()),
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetLabel(m->details()["instruction_set"].get<std::string>());
+}
+
+/// The hybrid end to end at scale: range(0) divisions per cube side (40: 9602
+/// surface vertices, 129: 99 848), range(1) the coarse selection's target (150,
+/// 1500 nodes), range(2) threads. Counters: the mean time of each named phase of
+/// a frame (Model::last_phase_times), ms.
+void BM_HybridFrameScaling(benchmark::State& state) {
+  const HybridMesh& mesh = scaled_cube(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  auto m = make_model("hybrid", mesh, kCubeBottom, 10, {{"threads", state.range(2)}});
+  const PointLoad load = scaled_cube_load(mesh);
+  for (int f = 0; f < 20; ++f) m->step(load);
+  std::vector<double> phase_ms(m->last_phase_times().size(), 0.0);
+  for (auto _ : state) {
+    m->step(load);
+    for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k] += m->last_phase_times()[k].ms;
+  }
+  for (size_t k = 0; k < phase_ms.size(); ++k)
+    state.counters[std::string(m->last_phase_times()[k].name) + "_ms"] =
+        benchmark::Counter(phase_ms[k], benchmark::Counter::kAvgIterations);
+  state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+  state.counters["coarse_nodes"] = static_cast<double>(mesh.coarse_volume.V.rows());
+  state.SetLabel(m->details()["instruction_set"].get<std::string>());
+}
+
+/// The SIMD kernels against the scalar reference (reference_projections.h) on the
+/// same frames: each iteration steps a reference solver and a SIMD solver once
+/// (same state, same order), timed in pairs, so the VM's drift hits both alike.
+/// range(0): divisions per cube side. Counters: each one's ms per frame and the
+/// speed-up; the iteration time is the SIMD frame's.
+void BM_PbdKernelSpeedup(benchmark::State& state) {
+  const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
+  const SurfaceMesh& s = mesh.fine_surface;
+  const Eigen::VectorXd w = pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V));
+  pbd::Settings reference_settings;
+  reference_settings.kernels = pbd::Kernels::Reference;
+  pbd::Solver simd(s, w, pbd::Settings{}), reference(s, w, reference_settings);
+  const int load_vertex = pbd::nearest_vertex(s.V, kCubeLoad.point);
+  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
+  const Points no_pins;
+  using Clock = std::chrono::steady_clock;
+  double simd_s = 0, reference_s = 0;
+  for (auto _ : state) {
+    const auto a = Clock::now();
+    reference.step(load_vertex, force, {}, no_pins);
+    const auto b = Clock::now();
+    simd.step(load_vertex, force, {}, no_pins);
+    const auto c = Clock::now();
+    reference_s += std::chrono::duration<double>(b - a).count();
+    simd_s += std::chrono::duration<double>(c - b).count();
+    state.SetIterationTime(std::chrono::duration<double>(c - b).count());
+  }
+  state.counters["reference_ms"] = benchmark::Counter(1e3 * reference_s, benchmark::Counter::kAvgIterations);
+  state.counters["simd_ms"] = benchmark::Counter(1e3 * simd_s, benchmark::Counter::kAvgIterations);
+  state.counters["speedup"] = simd_s > 0 ? reference_s / simd_s : 0;
+  state.counters["surface_vertices"] = static_cast<double>(s.V.rows());
+  state.SetLabel(pbd::name(simd.instruction_set()));
+}
+
+/// What a barrier of the PBD sweep's thread team costs: range(0) members meeting
+/// 1000 times per iteration, with no work between. Time per barrier = iteration
+/// time / 1000.
+void BM_ThreadTeamBarrier(benchmark::State& state) {
+  pbd::ThreadTeam team(static_cast<int>(state.range(0)));
+  auto task = [&team](int) {
+    for (int i = 0; i < 1000; ++i) team.barrier();
+  };
+  for (auto _ : state) team.run(task);
+  state.counters["ns_per_barrier"] =
+      benchmark::Counter(1000, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 BENCHMARK(BM_FemSetup)
@@ -188,8 +287,17 @@ BENCHMARK(BM_HybridFrame)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdFrameInstructionSet)->ArgName("avx")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
-// 40 divisions: 9602 vertices; 129: 99 848 vertices.
-BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)->Unit(benchmark::kMillisecond);
+// 10 divisions: 602 vertices; 20: 2402; 40: 9602; 82: 40 346; 129: 99 848.
+BENCHMARK(BM_PbdFrameScaling)
+    ->ArgNames({"divisions", "threads"})
+    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HybridFrameScaling)
+    ->ArgNames({"divisions", "coarse", "threads"})
+    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdKernelSpeedup)->ArgName("divisions")->Arg(10)->Arg(40)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace tb

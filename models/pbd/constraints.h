@@ -20,6 +20,10 @@ constexpr double kTiny = 1e-30;
 /// cannot change the angle to first order (a free hinge end whose wings' feet both
 /// lie at the other end), and C / |grad C| would be noise over noise.
 constexpr double kNoiseGradient = 1e-20;
+/// The same for a sweep in single precision, whose rounding noise is about
+/// (6e-8)^2 = 4e-15 of that scale: 1e-10 lies well above it and below any
+/// gradient ratio (1e-5) that matters.
+constexpr double kNoiseGradientSingle = 1e-10;
 
 /// Which angle the bending constraint keeps: the paper's eq. (19),
 /// C = arccos(n1 . n2) - phi0 = |theta| - |theta0|, whose gradient flips sign

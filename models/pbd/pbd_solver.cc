@@ -133,17 +133,19 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
       p_(rest.V.rows()),
+      q_(0),
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
       c_(build_constraints(rest)),
-      batches_(c_, w_),
+      s_(settings),
       isa_(best_instruction_set()),
-      s_(settings) {
+      batches_(c_, w_, batch_width(isa_, s_.precision), s_.precision) {
+  if (s_.precision == Precision::Single) q_ = PaddedRows<float>(rest.V.rows());
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
   if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
-  if (s_.kernels == Kernels::Reference && s_.threads != 1)
-    throw std::invalid_argument("PBD solver: the reference kernels run on one thread");
+  if (s_.kernels == Kernels::Reference && (s_.threads != 1 || s_.precision != Precision::Double))
+    throw std::invalid_argument("PBD solver: the reference kernels run on one thread in double precision");
   if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
 }
 
@@ -160,10 +162,15 @@ void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vect
     p_.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
-  if (s_.kernels == Kernels::Simd)
+  if (s_.kernels == Kernels::Simd && s_.precision == Precision::Single) {
+    q_.matrix() = p_.matrix().cast<float>();
+    batches_.project(q_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+    p_.matrix() = q_.matrix().cast<double>();
+  } else if (s_.kernels == Kernels::Simd) {
     batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
-  else
+  } else {
     for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
+  }
   const auto t2 = Clock::now();
   v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
   x_ = p_.matrix().leftCols<3>();              // eq. (34)
@@ -174,7 +181,17 @@ void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vect
 }
 
 nlohmann::json Solver::details() const {
-  return {{"instruction_set", s_.kernels == Kernels::Reference ? "scalar" : name(isa_)}, {"threads", s_.threads}};
+  const bool reference = s_.kernels == Kernels::Reference;
+  return {{"instruction_set", reference ? "scalar" : name(isa_)},
+          {"lanes", reference ? 1 : batches_.width()},
+          {"precision", name(s_.precision)},
+          {"threads", s_.threads}};
+}
+
+void Solver::use_instruction_set(InstructionSet isa) {
+  if (batch_width(isa, s_.precision) != batches_.width())
+    batches_ = ConstraintBatches(c_, w_, batch_width(isa, s_.precision), s_.precision);
+  isa_ = isa;
 }
 
 void Solver::reference_sweep(bool reverse) {

@@ -1,5 +1,6 @@
 // The constraint projections of paper 1.4 as kernels over one constraint (T =
-// double) or a batch of independent constraints, one per lane (T = lanes::Batch).
+// double or float) or a batch of independent constraints, one per lane (T = a
+// lanes::Vector or Twin).
 // constraints.h wraps them for single constraints; the solver's sweep runs them
 // on batches. Branch-free: a lane that cannot move (degenerate or fixed) gets zero
 // corrections and a false mask entry.
@@ -58,8 +59,9 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
 
 /// The inverse-mass shares w1 / (w1 + w2) and w2 / (w1 + w2) of a stretch
 /// constraint's correction (0 when both points are fixed); constant per constraint.
-inline void stretch_shares(double w1, double w2, double& share1, double& share2) {
-  const double wsum = w1 + w2;
+template <class S>
+inline void stretch_shares(S w1, S w2, S& share1, S& share2) {
+  const S wsum = w1 + w2;
   share1 = wsum > 0 ? w1 / wsum : 0;
   share2 = wsum > 0 ? w2 / wsum : 0;
 }
@@ -76,7 +78,7 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
   const T len = lanes::sqrt(dot(d, d));
   const auto ok = (share1 + share2 > T{}) & (len > lanes::splat<T>(kTiny));
   const T inv_len = one / lanes::select(ok, len, one);  // starts while len - rest is computed
-  const T s = lanes::select(ok, stiffness * (len - rest_length) * inv_len, T{});
+  const T s = lanes::select(ok, lanes::splat<T>(stiffness) * (len - rest_length) * inv_len, T{});
   corr1 = (-s * share1) * d;  // eq. (17)
   corr2 = (s * share2) * d;   // eq. (18)
   return ok;
@@ -104,10 +106,12 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
     denom += w[k] * g2;
     largest = lanes::select(g2 > largest, g2, largest);
   }
-  ok = ok & (denom > lanes::splat<T>(kTiny)) & (denom > kNoiseGradient * ((w[0] + w[1] + w[2] + w[3]) * largest));
+  ok = ok & (denom > lanes::splat<T>(kTiny)) &
+       (denom > lanes::splat<T>(std::is_same_v<lanes::Element<T>, float> ? kNoiseGradientSingle : kNoiseGradient) *
+                    ((w[0] + w[1] + w[2] + w[3]) * largest));
   // The reciprocal of denom does not wait for the angle (c): off the critical path.
   const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
-  const T s = lanes::select(ok, -stiffness * c * inv_denom, T{}) * sign;
+  const T s = lanes::select(ok, lanes::splat<T>(-stiffness) * c * inv_denom, T{}) * sign;
   for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * corr[k];
   return ok;
 }

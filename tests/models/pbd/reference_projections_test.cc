@@ -126,10 +126,12 @@ std::vector<Stretch> stretch_cases() {
   return cases;
 }
 
-/// The kernels' corrections of every case on `isa`, through ConstraintBatches
-/// (each case its own vertices, so all are projected from the given positions).
+/// The kernels' corrections of every case on `isa` in `precision`, through
+/// ConstraintBatches (each case its own vertices, so all are projected from the
+/// given positions).
 void kernel_corrections(const std::vector<Stretch>& stretch, const std::vector<Bend>& bend, double ks, double kb,
-                        BendingAngle kind, InstructionSet isa, Eigen::MatrixXd& sc, Eigen::MatrixXd& bc) {
+                        BendingAngle kind, InstructionSet isa, Eigen::MatrixXd& sc, Eigen::MatrixXd& bc,
+                        Precision precision = Precision::Double) {
   const Eigen::Index ns = static_cast<Eigen::Index>(stretch.size()), nb = static_cast<Eigen::Index>(bend.size());
   ConstraintSet c;
   c.stretch.resize(ns, 2);
@@ -155,13 +157,19 @@ void kernel_corrections(const std::vector<Stretch>& stretch, const std::vector<B
     }
     c.bending_rest(i) = bend[static_cast<size_t>(i)].rest;
   }
-  const ConstraintBatches batches(c, w);
-  batches.corrections(x.data(), ks, kb, kind, isa, sc, bc);
+  const ConstraintBatches batches(c, w, batch_width(isa, precision), precision);
+  if (precision == Precision::Double) {
+    batches.corrections(x.data(), ks, kb, kind, isa, sc, bc);
+  } else {
+    const Eigen::Matrix<float, -1, 4, Eigen::RowMajor> xf = x.cast<float>();
+    batches.corrections(xf.data(), ks, kb, kind, isa, sc, bc);
+  }
 }
 
 std::vector<InstructionSet> instruction_sets() {
-  std::vector<InstructionSet> sets = {InstructionSet::Sse2};
-  if (best_instruction_set() == InstructionSet::Avx) sets.push_back(InstructionSet::Avx);
+  std::vector<InstructionSet> sets;
+  for (InstructionSet isa : {InstructionSet::Sse2, InstructionSet::Avx, InstructionSet::Avx512})
+    if (cpu_supports(isa)) sets.push_back(isa);
   return sets;
 }
 
@@ -199,7 +207,7 @@ TEST(ReferenceProjections, SimdStretchKernelsAgreeWithTheReference) {
         ASSERT_LE(err, 1e-12) << name(isa) << " case " << i << " slot " << j;
       }
     }
-    RecordProperty(std::string("worst_relative_error_") + name(isa), std::to_string(worst));
+    RecordProperty(std::string("worst_relative_error_") + name(isa), testing::PrintToString(worst));
   }
 }
 
@@ -255,8 +263,56 @@ TEST(ReferenceProjections, SimdBendingKernelsAgreeWithTheReference) {
       EXPECT_EQ(degenerate, 7);  // the seven degenerate cases of bending_cases(), no more
       RecordProperty(
           std::string("worst_relative_error_") + name(isa) + (kind == BendingAngle::Signed ? "_signed" : "_unsigned"),
-          std::to_string(worst));
+          testing::PrintToString(worst));
     }
+}
+
+/// The kernels in single precision against the (double) reference on the
+/// well-conditioned random cases: to single precision's rounding, with the same
+/// error measure as above.
+TEST(ReferenceProjections, SinglePrecisionKernelsAgreeWithTheReferenceToFloatRounding) {
+  std::vector<Bend> bends = bending_cases();
+  bends.resize(20000);  // the random ones
+  std::vector<Stretch> stretches = stretch_cases();
+  stretches.resize(20000);
+  const double k = 0.7;
+  for (InstructionSet isa : instruction_sets()) {
+    Eigen::MatrixXd sc, bc;
+    kernel_corrections(stretches, bends, k, k, BendingAngle::Signed, isa, sc, bc, Precision::Single);
+    double worst_stretch = 0, worst_bending = 0;
+    for (size_t i = 0; i < stretches.size(); ++i) {
+      const Stretch& s = stretches[i];
+      Vec3 r[2];
+      if (!reference::project_stretch(s.p[0], s.w[0], s.p[1], s.w[1], s.rest, k, r[0], r[1])) continue;
+      for (int j = 0; j < 2; ++j) {
+        const double unit = k * s.w[j] / (s.w[0] + s.w[1]) * std::max((s.p[0] - s.p[1]).norm(), s.rest);
+        worst_stretch =
+            std::max(worst_stretch, relative(sc.row(static_cast<Eigen::Index>(i)).segment<3>(3 * j), r[j], unit));
+      }
+    }
+    for (size_t i = 0; i < bends.size(); ++i) {
+      const Bend& b = bends[i];
+      Vec3 r[4], g[4];
+      double theta;
+      if (!reference::project_bending(b.p[0], b.w[0], b.p[1], b.w[1], b.p[2], b.w[2], b.p[3], b.w[3], b.rest, k, r,
+                                      BendingAngle::Signed) ||
+          std::abs(std::abs(b.rest) - kPi) < 1e-3)
+        continue;
+      reference::dihedral_angle(b.p[0], b.p[1], b.p[2], b.p[3], theta, g);
+      if (std::abs(theta) > kPi - 1e-3) continue;  // the signed angle's jump at folded, within float rounding
+      double denominator = 0;
+      for (int j = 0; j < 4; ++j) denominator += b.w[j] * g[j].squaredNorm();
+      for (int j = 0; j < 4; ++j)
+        worst_bending = std::max(worst_bending, relative(bc.row(static_cast<Eigen::Index>(i)).segment<3>(3 * j), r[j],
+                                                         k * b.w[j] * g[j].norm() / denominator));
+    }
+    // Single precision rounds at 6e-8; the bending projection's chain (normals,
+    // angle, gradient, denominator) loses a few bits more on skinny cases.
+    EXPECT_LT(worst_stretch, 1e-5) << name(isa);
+    EXPECT_LT(worst_bending, 1e-4) << name(isa);
+    RecordProperty(std::string("worst_single_stretch_") + name(isa), testing::PrintToString(worst_stretch));
+    RecordProperty(std::string("worst_single_bending_") + name(isa), testing::PrintToString(worst_bending));
+  }
 }
 
 /// Skinny wings: the normals' lengths lose digits to cancellation in both
@@ -353,7 +409,7 @@ TEST(ReferenceProjections, SolverWithReferenceKernelsFollowsTheSimdSolver) {
   const double differ = (a.positions() - b.positions()).cwiseAbs().maxCoeff();
   EXPECT_GT(moved, 1e-3);
   EXPECT_LE(differ, 1e-12 * moved);
-  RecordProperty("relative_difference", std::to_string(differ / moved));
+  RecordProperty("relative_difference", testing::PrintToString(differ / moved));
   EXPECT_EQ(b.details()["instruction_set"], "scalar");
 }
 
