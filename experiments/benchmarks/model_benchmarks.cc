@@ -156,22 +156,29 @@ void dynamic_frame(benchmark::State& state, const std::string& model) {
 void BM_PbdFrame(benchmark::State& state) { dynamic_frame(state, "pbd"); }
 void BM_HybridFrame(benchmark::State& state) { dynamic_frame(state, "hybrid"); }
 
-/// One PBD frame on the cube (10 iterations) with the projection on SSE2
-/// (range(0) = 0) or AVX (1): what the run-time choice is worth.
+/// One PBD frame (10 iterations) with the projection on range(0) = 0 SSE2, 1 AVX,
+/// 2 AVX-512, in range(1) = 0 double, 1 single precision, on range(2) = 0 the
+/// paper's cube, else a cube of that many divisions per side: what the run-time
+/// choice and the precision are worth.
 void BM_PbdFrameInstructionSet(benchmark::State& state) {
-  const pbd::InstructionSet isa = state.range(0) == 1 ? pbd::InstructionSet::Avx : pbd::InstructionSet::Sse2;
-  if (isa == pbd::InstructionSet::Avx && pbd::best_instruction_set() != isa) {
-    state.SkipWithError("this CPU has no AVX");
+  const auto isa = static_cast<pbd::InstructionSet>(state.range(0));
+  if (!pbd::cpu_supports(isa)) {
+    state.SkipWithError((std::string("this CPU has no ") + pbd::name(isa)).c_str());
     return;
   }
-  const SurfaceMesh& s = cube_mesh(1).fine_surface;
-  pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), pbd::Settings{});
+  const HybridMesh& mesh = state.range(2) == 0 ? cube_mesh(1) : surface_only_cube(static_cast<int>(state.range(2)));
+  const SurfaceMesh& s = mesh.fine_surface;
+  pbd::Settings settings;
+  settings.precision = state.range(1) == 1 ? pbd::Precision::Single : pbd::Precision::Double;
+  pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), settings);
   solver.use_instruction_set(isa);
   const int load_vertex = pbd::nearest_vertex(s.V, kCubeLoad.point);
+  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
   const Points no_pins;
-  for (int f = 0; f < 200; ++f) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
-  for (auto _ : state) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
-  state.SetLabel(pbd::name(isa));
+  for (int f = 0; f < 200; ++f) solver.step(load_vertex, force, {}, no_pins);
+  for (auto _ : state) solver.step(load_vertex, force, {}, no_pins);
+  state.counters["surface_vertices"] = static_cast<double>(s.V.rows());
+  state.SetLabel(std::string(pbd::name(isa)) + " " + pbd::name(settings.precision));
 }
 
 /// The coarse FEM inside the hybrid alone: back-substitution on the coarse mesh.
@@ -185,10 +192,11 @@ void BM_HybridCoarseSolve(benchmark::State& state) {
 }
 
 /// PBD cost against surface size: range(0) divisions per cube side, range(1)
-/// threads sweeping each colour.
+/// threads sweeping each colour, range(2) 1 for a single-precision sweep.
 void BM_PbdFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
-  auto m = make_model("pbd", mesh, kCubeBottom, 10, {{"threads", state.range(1)}});
+  auto m = make_model("pbd", mesh, kCubeBottom, 10,
+                      {{"threads", state.range(1)}, {"precision", state.range(2) ? "single" : "double"}});
   const PointLoad load = scaled_cube_load(mesh);
   for (int f = 0; f < 20; ++f) m->step(load);
   for (auto _ : state) m->step(load);
@@ -196,16 +204,18 @@ void BM_PbdFrameScaling(benchmark::State& state) {
   state.counters["ns_per_vertex"] =
       benchmark::Counter(static_cast<double>(mesh.fine_surface.V.rows()),
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.SetLabel(m->details()["instruction_set"].get<std::string>());
+  state.SetLabel(m->details()["instruction_set"].get<std::string>() + " " +
+                 m->details()["precision"].get<std::string>());
 }
 
 /// The hybrid end to end at scale: range(0) divisions per cube side (40: 9602
 /// surface vertices, 129: 99 848), range(1) the coarse selection's target (150,
-/// 1500 nodes), range(2) threads. Counters: the mean time of each named phase of
-/// a frame (Model::last_phase_times), ms.
+/// 1500 nodes), range(2) threads, range(3) 1 for a single-precision sweep. Counters: the mean time of each named phase
+/// of a frame (Model::last_phase_times), ms.
 void BM_HybridFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = scaled_cube(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  auto m = make_model("hybrid", mesh, kCubeBottom, 10, {{"threads", state.range(2)}});
+  auto m = make_model("hybrid", mesh, kCubeBottom, 10,
+                      {{"threads", state.range(2)}, {"precision", state.range(3) ? "single" : "double"}});
   const PointLoad load = scaled_cube_load(mesh);
   for (int f = 0; f < 20; ++f) m->step(load);
   std::vector<double> phase_ms(m->last_phase_times().size(), 0.0);
@@ -218,7 +228,8 @@ void BM_HybridFrameScaling(benchmark::State& state) {
         benchmark::Counter(phase_ms[k], benchmark::Counter::kAvgIterations);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.counters["coarse_nodes"] = static_cast<double>(mesh.coarse_volume.V.rows());
-  state.SetLabel(m->details()["instruction_set"].get<std::string>());
+  state.SetLabel(m->details()["instruction_set"].get<std::string>() + " " +
+                 m->details()["precision"].get<std::string>());
 }
 
 /// The SIMD kernels against the scalar reference (reference_projections.h) on the
@@ -285,19 +296,25 @@ BENCHMARK(BM_HybridFrame)
     ->ArgNames({"liver", "iterations"})
     ->ArgsProduct({{0, 1}, {5, 10, 20}})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PbdFrameInstructionSet)->ArgName("avx")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdFrameInstructionSet)
+    ->ArgNames({"isa", "single", "divisions"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 40}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
 // 10 divisions: 602 vertices; 20: 2402; 40: 9602; 82: 40 346; 129: 99 848.
+// Wall time (UseRealTime) wherever a second thread may work.
 BENCHMARK(BM_PbdFrameScaling)
-    ->ArgNames({"divisions", "threads"})
-    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}})
+    ->ArgNames({"divisions", "threads", "single"})
+    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}, {0, 1}})
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridFrameScaling)
-    ->ArgNames({"divisions", "coarse", "threads"})
-    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}})
+    ->ArgNames({"divisions", "coarse", "threads", "single"})
+    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}, {0, 1}})
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdKernelSpeedup)->ArgName("divisions")->Arg(10)->Arg(40)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace tb

@@ -486,9 +486,7 @@ bool cpu_supports(InstructionSet isa) {
 }
 
 InstructionSet best_instruction_set() {
-  static const InstructionSet best = cpu_supports(InstructionSet::Avx512) ? InstructionSet::Avx512
-                                     : cpu_supports(InstructionSet::Avx)  ? InstructionSet::Avx
-                                                                          : InstructionSet::Sse2;
+  static const InstructionSet best = cpu_supports(InstructionSet::Avx) ? InstructionSet::Avx : InstructionSet::Sse2;
   return best;
 }
 

@@ -137,8 +137,10 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
       c_(build_constraints(rest)),
       s_(settings),
-      isa_(best_instruction_set()),
+      isa_(s_.instruction_set.value_or(best_instruction_set())),
       batches_(c_, w_, batch_width(isa_, s_.precision), s_.precision) {
+  if (!cpu_supports(isa_))
+    throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
   if (s_.precision == Precision::Single) q_ = PaddedRows<float>(rest.V.rows());
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "constraint_batches.h"
@@ -35,6 +36,8 @@ struct Settings {
   int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
   Precision precision = Precision::Double;
+  /// The sweep's vector instructions; none: best_instruction_set().
+  std::optional<InstructionSet> instruction_set;
   static Settings from(const Parameters& p);
 };
 
