@@ -420,6 +420,12 @@ TEST(ReferenceProjections, ReferenceKernelsOnSeveralThreadsAreAnError) {
   EXPECT_THROW(resolve_parameters(specs, {{"kernels", "scalar"}}, "test"), std::invalid_argument);
   EXPECT_THROW(resolve_parameters(specs, {{"threads", 0}}, "test"), std::invalid_argument);
   EXPECT_THROW(resolve_parameters(specs, {{"threads", 1.5}}, "test"), std::invalid_argument);
+  EXPECT_THROW(Settings::from(resolve_parameters(specs, {{"kernels", "reference"}, {"precision", "single"}}, "test")),
+               std::invalid_argument);
+  EXPECT_THROW(resolve_parameters(specs, {{"precision", "half"}}, "test"), std::invalid_argument);
+  EXPECT_THROW(resolve_parameters(specs, {{"instruction_set", "neon"}}, "test"), std::invalid_argument);
+  EXPECT_EQ(Settings::from(resolve_parameters(specs, {{"instruction_set", "sse2"}}, "test")).instruction_set,
+            InstructionSet::Sse2);
 }
 
 }  // namespace
