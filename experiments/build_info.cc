@@ -33,9 +33,7 @@ nlohmann::json build_and_machine_info() {
     }
   j["hardware_threads"] = std::thread::hardware_concurrency();
   j["blas_threads"] = 1;  // tissuebench's main pins OpenBLAS and OpenMP to one thread
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  j["peak_memory_mib"] = static_cast<double>(usage.ru_maxrss) / 1024.0;  // of the whole process so far
+  j["peak_memory_mib"] = process_peak_memory_mib();  // of the whole process so far
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   j["hostname"] = host;
@@ -44,6 +42,12 @@ nlohmann::json build_and_machine_info() {
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   j["date_utc"] = date;
   return j;
+}
+
+double process_peak_memory_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
 }  // namespace tb

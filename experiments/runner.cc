@@ -176,6 +176,9 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<size_t>(budget));
   std::vector<int> iterations;
+  // Per-frame times of the model's named phases (Model::last_phase_times).
+  std::vector<std::pair<std::string, std::vector<double>>> phase_ms;
+  for (const PhaseTime& p : model->last_phase_times()) phase_ms.emplace_back(p.name, std::vector<double>());
   Displacements previous = Displacements::Zero(rest.rows(), 3);
   double last_change = 0;
   const auto loop_start = Clock::now();
@@ -186,6 +189,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     const auto b = Clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
     iterations.push_back(model->last_iterations());
+    for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k].second.push_back(model->last_phase_times()[k].ms);
     out.frames = frame + 1;
 
     const Displacements& u = model->surface_displacement();
@@ -251,6 +255,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   const size_t skip = std::min(step_ms.size(), static_cast<size_t>(s.ramp_frames));
   t["step_after_ramp"] =
       to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
+  // Each named phase of a frame (STYLE.md 10), over the frames after the ramp.
+  t["phases_after_ramp"] = nlohmann::json::object();
+  for (const auto& [name, ms] : phase_ms)
+    t["phases_after_ramp"][name] =
+        to_json(timing_stats(std::vector<double>(ms.begin() + static_cast<long>(skip), ms.end())));
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
   t["build"] = j["build"];
@@ -300,9 +309,16 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         progress.line(s.name + ": preparing meshes");
         MeshReport report;
         bool cached = false;
+        const auto build_start = Clock::now();
         mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+        const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
         if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
         summary = report.to_json(*mesh);
+        // How long building took and the process's peak memory after it (an upper
+        // bound of the build's own when it is the process's first and largest).
+        summary["build_seconds"] = build_seconds;
+        summary["read_from_cache"] = cached;
+        summary["process_peak_memory_mib_after_build"] = process_peak_memory_mib();
         it = meshes.emplace(key, BuiltMesh{mesh, report, summary}).first;
         progress.line(s.name + ": " + std::to_string(mesh->fine_surface.V.rows()) + " surface vertices, " +
                       std::to_string(mesh->fine_volume.T.rows()) + " fine tets, " +

@@ -9,6 +9,7 @@
 #include "mesh_checks.h"
 #include "point_location.h"
 #include "tetgen_driver.h"
+#include "winding_number_tree.h"
 
 namespace tb {
 namespace {
@@ -88,7 +89,7 @@ TetMesh compact(const TetMesh& m, const std::vector<int>& keep, std::vector<int>
 
 /// The Delaunay mesh of V[selected] less the tets whose centroid is outside the
 /// surface (a Delaunay mesh fills the convex hull), flat boundary slivers removed.
-CoarseMesh mesh_selection(const Points& V, const std::vector<int>& selected, const SurfaceMesh& surface,
+CoarseMesh mesh_selection(const Points& V, const std::vector<int>& selected, const WindingNumberTree& winding_number,
                           double min_dihedral_deg, const std::string& source) {
   Points points(static_cast<Eigen::Index>(selected.size()), 3);
   for (size_t i = 0; i < selected.size(); ++i) points.row(static_cast<Eigen::Index>(i)) = V.row(selected[i]);
@@ -97,7 +98,7 @@ CoarseMesh mesh_selection(const Points& V, const std::vector<int>& selected, con
   for (Eigen::Index t = 0; t < hull.T.rows(); ++t) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int k = 0; k < 4; ++k) centroid += hull.V.row(hull.T(t, k)).transpose() / 4.0;
-    if (winding_number(surface, centroid) > 0.5) inside.push_back(static_cast<int>(t));
+    if (winding_number(centroid) > 0.5) inside.push_back(static_cast<int>(t));
   }
   CoarseMesh c;
   std::vector<int> new_index;
@@ -212,11 +213,12 @@ CoarseMesh build_coarse_mesh(const Points& V, const std::vector<int>& priority, 
                              double spacing, const SurfaceMesh& surface, const CoarseMeshOptions& o,
                              const std::string& source) {
   std::sort(selected.begin(), selected.end());
+  const WindingNumberTree winding_number(surface);  // built once for every re-mesh
   CoarseMesh best;
   double best_angle = -1;
   int moved_total = 0, dropped_total = 0;
   for (int round = 0;; ++round) {
-    CoarseMesh c = mesh_selection(V, selected, surface, o.min_dihedral_deg, source);
+    CoarseMesh c = mesh_selection(V, selected, winding_number, o.min_dihedral_deg, source);
     c.repair.remeshes = round;
     c.repair.vertices_moved = moved_total;
     c.repair.interior_vertices_dropped = dropped_total;

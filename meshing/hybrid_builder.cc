@@ -99,8 +99,9 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
     h.fine_surface_to_volume = surface_to_volume_identity(surface);
   }
   std::vector<ControlPoint> embedding(static_cast<size_t>(surface.V.rows()));
+  const TetLocator locator(coarse);
   for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
-    const TetEmbedding e = locate_point(coarse, surface.V.row(v).transpose());
+    const TetEmbedding e = locator.locate(surface.V.row(v).transpose());
     embedding[static_cast<size_t>(v)] = {static_cast<int>(v), e.tet, e.weights};
   }
   std::vector<int> chosen;
@@ -122,8 +123,9 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
 
 double max_embedding_distance(const HybridMesh& h) {
   double worst = 0;
+  const TetLocator locator(h.coarse_volume);
   for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
-    worst = std::max(worst, locate_point(h.coarse_volume, h.fine_surface.V.row(v).transpose()).distance);
+    worst = std::max(worst, locator.locate(h.fine_surface.V.row(v).transpose()).distance);
   return worst;
 }
 

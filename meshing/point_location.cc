@@ -40,15 +40,13 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
   return (p - (a + ab * vb * denom + ac * vc * denom)).norm();
 }
 
-TetEmbedding locate_point(const TetMesh& m, const Eigen::Vector3d& p, double tolerance) {
+namespace {
+
+/// The tet nearest to p (lowest index on ties), with p's barycentric weights in it.
+TetEmbedding nearest_tet(const TetMesh& m, const Eigen::Vector3d& p) {
   TetEmbedding best;
   best.distance = std::numeric_limits<double>::infinity();
-  const double eps = tolerance;
   auto corner = [&](Eigen::Index t, int k) -> Eigen::Vector3d { return m.V.row(m.T(t, k)).transpose(); };
-  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
-    const Eigen::Vector4d w = barycentric(corner(t, 0), corner(t, 1), corner(t, 2), corner(t, 3), p);
-    if (w.minCoeff() >= -eps) return {static_cast<int>(t), w, 0.0};
-  }
   for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
     static const int faces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
     double dist = std::numeric_limits<double>::infinity();
@@ -64,6 +62,72 @@ TetEmbedding locate_point(const TetMesh& m, const Eigen::Vector3d& p, double tol
     best.weights = barycentric(corner(t, 0), corner(t, 1), corner(t, 2), corner(t, 3), p);
   }
   return best;
+}
+
+/// p's weights in tet t, and whether t contains p (every weight >= -tolerance).
+bool contains(const TetMesh& m, Eigen::Index t, const Eigen::Vector3d& p, double tolerance, Eigen::Vector4d& w) {
+  auto corner = [&](int k) -> Eigen::Vector3d { return m.V.row(m.T(t, k)).transpose(); };
+  w = barycentric(corner(0), corner(1), corner(2), corner(3), p);
+  return w.minCoeff() >= -tolerance;
+}
+
+}  // namespace
+
+TetEmbedding locate_point(const TetMesh& m, const Eigen::Vector3d& p, double tolerance) {
+  Eigen::Vector4d w;
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+    if (contains(m, t, p, tolerance, w)) return {static_cast<int>(t), w, 0.0};
+  return nearest_tet(m, p);
+}
+
+TetLocator::TetLocator(const TetMesh& mesh, double tolerance) : mesh_(mesh), tolerance_(tolerance) {
+  if (mesh.T.rows() == 0) return;
+  origin_ = mesh.V.colwise().minCoeff().transpose();
+  const Eigen::Vector3d extent = mesh.V.colwise().maxCoeff().transpose() - origin_;
+  // About two tets per cell.
+  const double cells = std::max(1.0, static_cast<double>(mesh.T.rows()) / 2);
+  cell_ = std::max(extent.maxCoeff() / std::cbrt(cells), 1e-300);
+  for (int a = 0; a < 3; ++a) count_[a] = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(extent(a) / cell_)));
+  std::vector<std::vector<int>> bins(static_cast<size_t>(count_[0] * count_[1] * count_[2]));
+  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+    double longest = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector3d v = mesh.V.row(mesh.T(t, k)).transpose();
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+      for (int l = 0; l < k; ++l) longest = std::max(longest, (v - mesh.V.row(mesh.T(t, l)).transpose()).norm());
+    }
+    // A point whose weights are >= -tolerance lies within tolerance x (the tet's
+    // height) of it: inflate the box by that, and a little for rounding.
+    const double margin = (tolerance + 1e-9) * longest;
+    const Eigen::Array3i first = cell_of(lo.array() - margin), last = cell_of(hi.array() + margin);
+    for (int i = first(0); i <= last(0); ++i)
+      for (int j = first(1); j <= last(1); ++j)
+        for (int k = first(2); k <= last(2); ++k)
+          bins[static_cast<size_t>((i * count_[1] + j) * count_[2] + k)].push_back(static_cast<int>(t));
+  }
+  start_.assign(bins.size() + 1, 0);
+  for (size_t b = 0; b < bins.size(); ++b) start_[b + 1] = start_[b] + static_cast<int64_t>(bins[b].size());
+  tets_.reserve(static_cast<size_t>(start_.back()));
+  for (const auto& bin : bins) tets_.insert(tets_.end(), bin.begin(), bin.end());  // ascending within a bin
+}
+
+Eigen::Array3i TetLocator::cell_of(const Eigen::Array3d& p) const {
+  Eigen::Array3i c;
+  for (int a = 0; a < 3; ++a)
+    c(a) = static_cast<int>(std::clamp<double>(std::floor((p(a) - origin_(a)) / cell_), 0, count_[a] - 1));
+  return c;
+}
+
+TetEmbedding TetLocator::locate(const Eigen::Vector3d& p) const {
+  if (mesh_.T.rows() == 0) return {};
+  const Eigen::Array3i c = cell_of(p.array());
+  const size_t bin = static_cast<size_t>((c(0) * count_[1] + c(1)) * count_[2] + c(2));
+  Eigen::Vector4d w;
+  for (int64_t i = start_[bin]; i < start_[bin + 1]; ++i)
+    if (contains(mesh_, tets_[static_cast<size_t>(i)], p, tolerance_, w)) return {tets_[static_cast<size_t>(i)], w, 0.0};
+  return nearest_tet(mesh_, p);
 }
 
 double winding_number(const SurfaceMesh& s, const Eigen::Vector3d& p) {

@@ -1,6 +1,9 @@
 // Where a point sits relative to a tet mesh or a closed surface.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "mesh_types.h"
 
 namespace tb {
@@ -23,6 +26,26 @@ Eigen::Vector4d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
 /// deterministic), else the nearest tet. A tet contains p when every barycentric
 /// weight is >= -tolerance.
 TetEmbedding locate_point(const TetMesh& mesh, const Eigen::Vector3d& p, double tolerance = 1e-9);
+
+/// locate_point for many points: the tets bucketed in a grid by their bounding
+/// boxes (inflated by what the tolerance admits), so a query tests the few tets of
+/// its cell, in ascending order; the same answer as locate_point. The mesh must
+/// outlive the locator.
+class TetLocator {
+ public:
+  explicit TetLocator(const TetMesh& mesh, double tolerance = 1e-9);
+  TetEmbedding locate(const Eigen::Vector3d& p) const;
+
+ private:
+  Eigen::Array3i cell_of(const Eigen::Array3d& p) const;
+  const TetMesh& mesh_;
+  double tolerance_;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  double cell_ = 1;
+  int64_t count_[3] = {1, 1, 1};
+  std::vector<int64_t> start_;  // bin b holds tets_[start_[b], start_[b + 1])
+  std::vector<int> tets_;
+};
 
 /// Distance from p to triangle (a, b, c).
 double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

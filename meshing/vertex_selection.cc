@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <unordered_map>
 
 #include "mesh_checks.h"
 
@@ -61,15 +62,38 @@ std::vector<int> select_covering_vertices(const Points& V, const std::vector<int
     return priority[ua] != priority[ub] ? priority[ua] < priority[ub] : rank[ua] < rank[ub];
   });
   std::vector<int> selected;
+  if (V.rows() == 0) return selected;
   const double s2 = spacing * spacing;
+  // Selected vertices bucketed in a grid of cells a little wider than `spacing`:
+  // a vertex closer than `spacing` to v lies in v's cell or a neighbour (the
+  // margin absorbs the rounding of the cell coordinates), so only 27 cells are
+  // searched. The same selection as comparing with every selected vertex.
+  const double cell = spacing * (1 + 1e-9);
+  const Eigen::RowVector3d origin = V.colwise().minCoeff();
+  const Eigen::RowVector3d extent = V.colwise().maxCoeff() - origin;
+  const double max_cells = 1 << 20;  // per axis; beyond, cells grow (still correct, fewer buckets)
+  const double size = std::max(cell, extent.maxCoeff() / max_cells);
+  auto coordinate = [&](double x, int axis) { return static_cast<int64_t>(std::floor((x - origin(axis)) / size)); };
+  auto key = [](int64_t i, int64_t j, int64_t k) { return (i * 2097152 + j) * 2097152 + k; };  // 2^21 per axis
+  std::unordered_map<int64_t, std::vector<int>> cells;
   for (int v : order) {
+    const int64_t ci = coordinate(V(v, 0), 0), cj = coordinate(V(v, 1), 1), ck = coordinate(V(v, 2), 2);
     bool covered = false;
-    for (int w : selected)
-      if ((V.row(v) - V.row(w)).squaredNorm() < s2) {
-        covered = true;
-        break;
-      }
-    if (!covered) selected.push_back(v);
+    for (int64_t i = ci - 1; i <= ci + 1 && !covered; ++i)
+      for (int64_t j = cj - 1; j <= cj + 1 && !covered; ++j)
+        for (int64_t k = ck - 1; k <= ck + 1 && !covered; ++k) {
+          const auto it = cells.find(key(i, j, k));
+          if (it == cells.end()) continue;
+          for (int w : it->second)
+            if ((V.row(v) - V.row(w)).squaredNorm() < s2) {
+              covered = true;
+              break;
+            }
+        }
+    if (!covered) {
+      selected.push_back(v);
+      cells[key(ci, cj, ck)].push_back(v);
+    }
   }
   return selected;
 }

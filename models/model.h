@@ -54,6 +54,22 @@ struct Problem {
 /// #V_surface by 3 displacements of the fine-surface vertices.
 using Displacements = Points;
 
+/// Named phases of a frame (STYLE.md 10), the same names in every model; the
+/// runner writes each one's median and p95 to timings.json.
+namespace phase {
+inline constexpr const char* kSolve = "solve";               ///< a static model's solve (fem)
+inline constexpr const char* kCoarseSolve = "coarse_solve";  ///< hybrid: coarse K u = f, eq. (11)
+inline constexpr const char* kMapping = "mapping";           ///< hybrid: control points from the coarse u, eq. (33)
+inline constexpr const char* kProjection = "projection";     ///< PBD: pins (eq. 33) and constraint sweeps
+inline constexpr const char* kIntegration = "integration";   ///< PBD: eqs. (31)-(32), (34)-(35), displacements
+}  // namespace phase
+
+/// How long one phase of the last frame took.
+struct PhaseTime {
+  const char* name;  ///< one of tb::phase
+  double ms = 0;
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -66,9 +82,17 @@ class Model {
   /// Solver iterations in the last step, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
   /// Facts about how the model set itself up and maps the load (strategies chosen,
-  /// factor sizes, how far the load point was from the mesh it was mapped into),
-  /// written into run.json beside the parameters. Called after step().
+  /// factor sizes, how far the load point was from the mesh it was mapped into, the
+  /// vector instruction set of a SIMD kernel), written into run.json beside the
+  /// parameters. Called after step().
   virtual nlohmann::json report() const { return nlohmann::json::object(); }
+  /// The phases of the last step() with their times, in the order run (empty for a
+  /// model that does not split its frame). The list is fixed at setup: reading and
+  /// updating it allocates nothing.
+  virtual const std::vector<PhaseTime>& last_phase_times() const {
+    static const std::vector<PhaseTime> none;
+    return none;
+  }
 };
 
 /// A registered model: its name, what it is, its parameters and how to make one.

@@ -4,6 +4,7 @@
 //      --benchmark_out_format=json (scripts/benchmark does this).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -16,6 +17,7 @@
 #include "model.h"
 #include "pbd_solver.h"
 #include "scenario.h"
+#include "thread_team.h"
 
 namespace tb {
 namespace {
@@ -68,6 +70,29 @@ const HybridMesh& surface_only_cube(int n) {
   return *m;
 }
 
+/// A cube of n divisions per side as a hybrid mesh built from its surface (paper
+/// 1.2: TetGen without a volume bound, coverage selection aimed at
+/// `coarse_nodes`). Cached.
+const HybridMesh& scaled_cube(int n, int coarse_nodes) {
+  static std::map<std::pair<int, int>, std::unique_ptr<HybridMesh>> cache;
+  auto& m = cache[{n, coarse_nodes}];
+  if (!m) {
+    HybridBuildOptions o;
+    o.fine_tetgen.radius_edge_ratio = 1.414;
+    o.target_coarse_nodes = coarse_nodes;
+    m = std::make_unique<HybridMesh>(build_hybrid_from_surface(make_cube_surface({0.1, 0.1, n, n, n}), o, "cube"));
+  }
+  return *m;
+}
+
+/// The paper cube's load with its force scaled by 682 / #V, so that the loaded
+/// vertex (mass ~ 1 / #V) accelerates as on the paper's cube (682 vertices).
+PointLoad scaled_cube_load(const HybridMesh& mesh) {
+  PointLoad load = kCubeLoad;
+  load.force *= 682.0 / static_cast<double>(mesh.fine_surface.V.rows());
+  return load;
+}
+
 /// The fine-mesh body and the solve of benchmark argument "solver": 0 direct,
 /// 1 CG with incomplete Cholesky, 2 CG with the two-level preconditioner on the
 /// cube's coarse (hybrid) mesh.
@@ -118,9 +143,10 @@ void BM_FemFrame(benchmark::State& state) {
 }
 
 std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
-                                  int iterations) {
+                                  int iterations, nlohmann::json parameters = nlohmann::json::object()) {
   const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, {{"iterations", iterations}}, name)};
+  parameters["iterations"] = iterations;
+  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
   auto m = info.create();
   m->setup(p);
   return m;
@@ -140,22 +166,29 @@ void dynamic_frame(benchmark::State& state, const std::string& model) {
 void BM_PbdFrame(benchmark::State& state) { dynamic_frame(state, "pbd"); }
 void BM_HybridFrame(benchmark::State& state) { dynamic_frame(state, "hybrid"); }
 
-/// One PBD frame on the cube (10 iterations) with the projection on SSE2
-/// (range(0) = 0) or AVX (1): what the run-time choice is worth.
+/// One PBD frame (10 iterations) with the projection on range(0) = 0 SSE2, 1 AVX,
+/// 2 AVX-512, in range(1) = 0 double, 1 single precision, on range(2) = 0 the
+/// paper's cube, else a cube of that many divisions per side: what the run-time
+/// choice and the precision are worth.
 void BM_PbdFrameInstructionSet(benchmark::State& state) {
-  const pbd::InstructionSet isa = state.range(0) == 1 ? pbd::InstructionSet::Avx : pbd::InstructionSet::Sse2;
-  if (isa == pbd::InstructionSet::Avx && pbd::best_instruction_set() != isa) {
-    state.SkipWithError("this CPU has no AVX");
+  const auto isa = static_cast<pbd::InstructionSet>(state.range(0));
+  if (!pbd::cpu_supports(isa)) {
+    state.SkipWithError((std::string("this CPU has no ") + pbd::name(isa)).c_str());
     return;
   }
-  const SurfaceMesh& s = cube_mesh(1).fine_surface;
-  pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), pbd::Settings{});
+  const HybridMesh& mesh = state.range(2) == 0 ? cube_mesh(1) : surface_only_cube(static_cast<int>(state.range(2)));
+  const SurfaceMesh& s = mesh.fine_surface;
+  pbd::Settings settings;
+  settings.precision = state.range(1) == 1 ? pbd::Precision::Single : pbd::Precision::Double;
+  pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), settings);
   solver.use_instruction_set(isa);
   const int load_vertex = nearest_vertex(s.V, kCubeLoad.point).nodes(0);
+  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
   const Points no_pins;
-  for (int f = 0; f < 200; ++f) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
-  for (auto _ : state) solver.step(load_vertex, kCubeLoad.force, {}, no_pins);
-  state.SetLabel(pbd::name(isa));
+  for (int f = 0; f < 200; ++f) solver.step(load_vertex, force, {}, no_pins);
+  for (auto _ : state) solver.step(load_vertex, force, {}, no_pins);
+  state.counters["surface_vertices"] = static_cast<double>(s.V.rows());
+  state.SetLabel(std::string(pbd::name(isa)) + " " + pbd::name(settings.precision));
 }
 
 /// The coarse FEM inside the hybrid alone: back-substitution on the coarse mesh.
@@ -169,15 +202,90 @@ void BM_HybridCoarseSolve(benchmark::State& state) {
   state.counters["dofs"] = static_cast<double>(3 * h.coarse_volume.V.rows());
 }
 
-/// PBD cost against surface size: range(0) divisions per cube side.
+/// PBD cost against surface size: range(0) divisions per cube side, range(1)
+/// threads sweeping each colour, range(2) 1 for a single-precision sweep.
 void BM_PbdFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
-  auto m = make_model("pbd", mesh, kCubeBottom, 10);
-  for (auto _ : state) m->step(kCubeLoad);
+  auto m = make_model("pbd", mesh, kCubeBottom, 10,
+                      {{"threads", state.range(1)}, {"precision", state.range(2) ? "single" : "double"}});
+  const PointLoad load = scaled_cube_load(mesh);
+  for (int f = 0; f < 20; ++f) m->step(load);
+  for (auto _ : state) m->step(load);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.counters["ns_per_vertex"] =
       benchmark::Counter(static_cast<double>(mesh.fine_surface.V.rows()),
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetLabel(m->report()["instruction_set"].get<std::string>() + " " + m->report()["precision"].get<std::string>());
+}
+
+/// The hybrid end to end at scale: range(0) divisions per cube side (40: 9602
+/// surface vertices, 129: 99 848), range(1) the coarse selection's target (150,
+/// 1500 nodes), range(2) threads, range(3) 1 for a single-precision sweep. Counters: the mean time of each named phase
+/// of a frame (Model::last_phase_times), ms.
+void BM_HybridFrameScaling(benchmark::State& state) {
+  const HybridMesh& mesh = scaled_cube(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  auto m = make_model("hybrid", mesh, kCubeBottom, 10,
+                      {{"threads", state.range(2)}, {"precision", state.range(3) ? "single" : "double"}});
+  const PointLoad load = scaled_cube_load(mesh);
+  for (int f = 0; f < 20; ++f) m->step(load);
+  std::vector<double> phase_ms(m->last_phase_times().size(), 0.0);
+  for (auto _ : state) {
+    m->step(load);
+    for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k] += m->last_phase_times()[k].ms;
+  }
+  for (size_t k = 0; k < phase_ms.size(); ++k)
+    state.counters[std::string(m->last_phase_times()[k].name) + "_ms"] =
+        benchmark::Counter(phase_ms[k], benchmark::Counter::kAvgIterations);
+  state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+  state.counters["coarse_nodes"] = static_cast<double>(mesh.coarse_volume.V.rows());
+  state.SetLabel(m->report()["instruction_set"].get<std::string>() + " " + m->report()["precision"].get<std::string>());
+}
+
+/// The SIMD kernels against the scalar reference (reference_projections.h) on the
+/// same frames: each iteration steps a reference solver and a SIMD solver once
+/// (same state, same order), timed in pairs, so the VM's drift hits both alike.
+/// range(0): divisions per cube side. Counters: each one's ms per frame and the
+/// speed-up; the iteration time is the SIMD frame's.
+void BM_PbdKernelSpeedup(benchmark::State& state) {
+  const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
+  const SurfaceMesh& s = mesh.fine_surface;
+  const Eigen::VectorXd w = pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V));
+  pbd::Settings reference_settings;
+  reference_settings.kernels = pbd::Kernels::Reference;
+  pbd::Solver simd(s, w, pbd::Settings{}), reference(s, w, reference_settings);
+  const int load_vertex = nearest_vertex(s.V, kCubeLoad.point).nodes(0);
+  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
+  const Points no_pins;
+  using Clock = std::chrono::steady_clock;
+  double simd_s = 0, reference_s = 0;
+  for (auto _ : state) {
+    const auto a = Clock::now();
+    reference.step(load_vertex, force, {}, no_pins);
+    const auto b = Clock::now();
+    simd.step(load_vertex, force, {}, no_pins);
+    const auto c = Clock::now();
+    reference_s += std::chrono::duration<double>(b - a).count();
+    simd_s += std::chrono::duration<double>(c - b).count();
+    state.SetIterationTime(std::chrono::duration<double>(c - b).count());
+  }
+  state.counters["reference_ms"] = benchmark::Counter(1e3 * reference_s, benchmark::Counter::kAvgIterations);
+  state.counters["simd_ms"] = benchmark::Counter(1e3 * simd_s, benchmark::Counter::kAvgIterations);
+  state.counters["speedup"] = simd_s > 0 ? reference_s / simd_s : 0;
+  state.counters["surface_vertices"] = static_cast<double>(s.V.rows());
+  state.SetLabel(pbd::name(simd.instruction_set()));
+}
+
+/// What a barrier of the PBD sweep's thread team costs: range(0) members meeting
+/// 1000 times per iteration, with no work between. Time per barrier = iteration
+/// time / 1000.
+void BM_ThreadTeamBarrier(benchmark::State& state) {
+  pbd::ThreadTeam team(static_cast<int>(state.range(0)));
+  auto task = [&team](int) {
+    for (int i = 0; i < 1000; ++i) team.barrier();
+  };
+  for (auto _ : state) team.run(task);
+  state.counters["ns_per_barrier"] =
+      benchmark::Counter(1000, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 BENCHMARK(BM_FemSetup)
@@ -197,10 +305,25 @@ BENCHMARK(BM_HybridFrame)
     ->ArgNames({"liver", "iterations"})
     ->ArgsProduct({{0, 1}, {5, 10, 20}})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PbdFrameInstructionSet)->ArgName("avx")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdFrameInstructionSet)
+    ->ArgNames({"isa", "single", "divisions"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 40}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
-// 40 divisions: 9602 vertices; 129: 99 848 vertices.
-BENCHMARK(BM_PbdFrameScaling)->ArgName("divisions")->Arg(10)->Arg(40)->Arg(129)->Unit(benchmark::kMillisecond);
+// 10 divisions: 602 vertices; 20: 2402; 40: 9602; 82: 40 346; 129: 99 848.
+// Wall time (UseRealTime) wherever a second thread may work.
+BENCHMARK(BM_PbdFrameScaling)
+    ->ArgNames({"divisions", "threads", "single"})
+    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}, {0, 1}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HybridFrameScaling)
+    ->ArgNames({"divisions", "coarse", "threads", "single"})
+    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}, {0, 1}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PbdKernelSpeedup)->ArgName("divisions")->Arg(10)->Arg(40)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace tb

@@ -1,5 +1,6 @@
 #include "fem_model.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "elastic_body.h"
@@ -29,7 +30,9 @@ class FemModel : public Model {
   void step(const PointLoad& load) override {
     const LoadStencil& stencil = stencil_.get(
         load.point, [&](const Eigen::Vector3d& x) { return containing_tet(body_->mesh(), x, "fine volume"); });
+    const auto start = std::chrono::steady_clock::now();
     solve_->solve(stencil, load.force, u_);
+    phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
       surface_u_.row(static_cast<Eigen::Index>(v)) = u_.segment<3>(3 * surface_to_volume_[v]).transpose();
@@ -38,8 +41,10 @@ class FemModel : public Model {
   const Displacements& surface_displacement() const override { return surface_u_; }
   int last_iterations() const override { return solve_->last_iterations(); }
   nlohmann::json report() const override { return {{"fine_solve", solve_->report()}}; }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
 
  private:
+  std::vector<PhaseTime> phases_{{phase::kSolve}};
   std::unique_ptr<ElasticBody> body_;
   std::unique_ptr<ElasticSolve> solve_;
   std::vector<int> surface_to_volume_;

@@ -1,5 +1,6 @@
 #include "hybrid_model.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "coarse_embedding.h"
@@ -64,12 +65,17 @@ class HybridModel : public Model {
         surface_load_
             .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
             .nodes(0);
+    using Clock = std::chrono::steady_clock;
+    using Ms = std::chrono::duration<double, std::milli>;
     // Step 2: the control points' displacement: coarse K u = f (eq. 11)
     // interpolated at their weights (eq. 33), or the fine FEM's in the ablation.
+    const auto t0 = Clock::now();
+    auto t1 = t0;
     if (exact_) {
       const LoadStencil& fine_load = fine_load_.get(
           load.point, [&](const Eigen::Vector3d& x) { return containing_tet(fine_body_->mesh(), x, "fine volume"); });
       exact_->apply(fine_load, load.force, control_u_);
+      t1 = Clock::now();
     } else {
       // The P1 stencil of the coarse tet holding the point (the nearest one: the
       // coarse hull may lie inside a curved surface), or, as a study factor, the
@@ -78,6 +84,7 @@ class HybridModel : public Model {
         return load_on_nearest_node_ ? nearest_vertex(coarse_body_->mesh().V, x) : nearest_tet(coarse_body_->mesh(), x);
       });
       coarse_->solve(coarse_load, load.force, coarse_u_);
+      t1 = Clock::now();
       interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
     }
     const Points& rest = solver_->rest_positions();
@@ -86,19 +93,35 @@ class HybridModel : public Model {
           rest.row(control_[k].surface_vertex) + control_u_.row(static_cast<Eigen::Index>(k));
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
+    const auto t2 = Clock::now();
     solver_->step(apply_force_to_surface_ ? load_vertex : -1, load.force, pinned_, pinned_positions_);
+    const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
+    const auto t4 = Clock::now();
+    phases_[0].ms = Ms(t1 - t0).count();
+    phases_[1].ms = Ms(t2 - t1).count();
+    phases_[2].ms = solver_->last_projection_ms();
+    phases_[3].ms = Ms(t3 - t2).count() - solver_->last_projection_ms() + Ms(t4 - t3).count();
   }
 
   const Displacements& surface_displacement() const override { return u_; }
   nlohmann::json report() const override {
-    if (exact_) return {{"control_points", "exact_fine_fem"}, {"fine_nodes_precomputed", exact_->nodes_computed()}};
-    nlohmann::json r = {{"control_points", "coarse_fem"}, {"coarse_solve", coarse_->report()}};
+    nlohmann::json r = solver_->details();  // the PBD sweep's threads, precision, instruction set
+    if (exact_) {
+      r["control_points"] = "exact_fine_fem";
+      r["fine_nodes_precomputed"] = exact_->nodes_computed();
+      return r;
+    }
+    r["control_points"] = "coarse_fem";
+    r["coarse_solve"] = coarse_->report();
     if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
     return r;
   }
 
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
+
  private:
+  std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
   bool exact_control_points_ = false;
   bool load_on_nearest_node_ = false;
   std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only

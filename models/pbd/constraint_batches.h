@@ -3,85 +3,176 @@
 // projects a batch at a time with the vector kernels of projection_kernels.h.
 // Because the constraints of a batch are independent, projecting them together
 // gives bitwise the result of projecting them one after another in the batches'
-// order (tests/models/pbd/constraint_batches_test.cc), on either instruction set.
+// order (tests/models/pbd/constraint_batches_test.cc), whatever the instruction
+// set and the number of lanes per batch. Batches never straddle two colours, and
+// no two constraints of one colour share a vertex, so a colour's batches can be
+// split between threads (thread_team.h) without changing a bit of the result.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <new>
 #include <vector>
 
 #include "constraints.h"
 #include "lane_math.h"
+#include "thread_team.h"
 
 namespace tb::pbd {
 
 struct ConstraintSet;
 
-/// Positions as the sweep wants them: #V rows of (x, y, z, unused), each row one
-/// 32-byte aligned vector (with Eigen's 16-byte alignment every other row straddles
-/// two cache lines: about 5% slower).
-using PaddedPoints = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
-class PaddedPositions {
+/// Positions as the sweep wants them: #V rows of (x, y, z, unused) of S, each row
+/// one aligned vector (with Eigen's 16-byte alignment every other double row
+/// straddles two cache lines: about 5% slower).
+template <class S>
+class PaddedRows {
  public:
-  explicit PaddedPositions(Eigen::Index rows) : rows_(static_cast<size_t>(rows)) {}
-  Eigen::Map<PaddedPoints> matrix() { return {rows_.data()->xyz_, static_cast<Eigen::Index>(rows_.size()), 4}; }
-  double* data() { return rows_.data()->xyz_; }
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, 4, Eigen::RowMajor>;
+  explicit PaddedRows(Eigen::Index rows) : rows_(static_cast<size_t>(rows)) {}
+  Eigen::Map<Matrix> matrix() { return {rows_.data()->xyz_, static_cast<Eigen::Index>(rows_.size()), 4}; }
+  S* data() { return rows_.data()->xyz_; }
 
  private:
-  struct alignas(4 * sizeof(double)) Row {
-    double xyz_[4] = {0, 0, 0, 0};
+  struct alignas(4 * sizeof(S)) Row {
+    S xyz_[4] = {0, 0, 0, 0};
   };
   std::vector<Row> rows_;
 };
+using PaddedPositions = PaddedRows<double>;
+using PaddedPoints = PaddedPositions::Matrix;
 
-/// The vector instructions a sweep runs with: SSE2 (every x86-64, two lanes per
-/// instruction) or AVX (four), chosen at run time; the results are the same.
-enum class InstructionSet { Sse2, Avx };
+/// The vector instructions a sweep runs with, chosen at run time: SSE2 (every
+/// x86-64), AVX or AVX-512 (F and DQ). In double precision every one gives the
+/// same numbers; single precision gives its own (the same on every one).
+enum class InstructionSet { Sse2, Avx, Avx512 };
+/// The default: AVX where the CPU has it, else SSE2. AVX-512 (8 doubles or 16
+/// floats per batch) measured slower than AVX on this project's AMD EPYC (10k
+/// vertices: 5.0 against 4.6 ms double, 3.5 against 2.6 ms single; the gathers'
+/// and scatters' shuffles grow with the width), so it runs only when asked.
 InstructionSet best_instruction_set();
+bool cpu_supports(InstructionSet isa);
 const char* name(InstructionSet isa);
+
+/// The number type of a sweep: double, or single for speed (its steady state
+/// differs from double's by rounding: README, pbd_solver.h).
+enum class Precision { Double, Single };
+const char* name(Precision precision);
+
+/// Constraints per batch: one per lane of the instruction set's vectors (SSE2
+/// double: two registers of two).
+int batch_width(InstructionSet isa, Precision precision);
+
+/// Vectors with alignment `Align` (for the batches' lanes).
+template <class T, size_t Align = 64>
+struct AlignedAllocator {
+  using value_type = T;
+  AlignedAllocator() = default;
+  template <class U>
+  AlignedAllocator(const AlignedAllocator<U, Align>&) {}
+  template <class U>
+  struct rebind {
+    using other = AlignedAllocator<U, Align>;
+  };
+  T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Align))); }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(Align)); }
+  bool operator==(const AlignedAllocator&) const { return true; }
+  bool operator!=(const AlignedAllocator&) const { return false; }
+};
 
 class ConstraintBatches {
  public:
-  static constexpr int kWidth = lanes::kBatchWidth;
-  /// Doubles per vertex in the positions the sweep works on: x, y, z and one
+  /// Numbers per vertex in the positions the sweep works on: x, y, z and one
   /// unused, so that a vertex is one vector load.
   static constexpr int kPositionStride = 4;
 
   /// Keeps the constraints that can move something (one of their vertices has
   /// inverse mass > 0), orders them by a greedy graph colouring and packs
-  /// consecutive independent ones into batches.
+  /// consecutive independent ones into batches of `width` lanes (batch_width) for
+  /// sweeps in `precision`.
   ///   inverse_mass  #V
-  ConstraintBatches(const ConstraintSet& constraints, const Eigen::VectorXd& inverse_mass);
+  ConstraintBatches(const ConstraintSet& constraints, const Eigen::VectorXd& inverse_mass, int width = 4,
+                    Precision precision = Precision::Double);
+
+  int width() const { return width_; }
+  Precision precision() const { return precision_; }
 
   /// One Gauss-Seidel sweep over all stretch constraints, then all bending
-  /// constraints (skipped when k_bend <= 0), forward or in reverse order.
+  /// constraints (skipped when k_bend <= 0), forward or in reverse order. The
+  /// instruction set must have this packing's width and precision (else
+  /// std::invalid_argument), and double or float positions as the precision says.
   ///   positions  #V by kPositionStride, row-major (x, y, z, unused), updated in
   ///              place; the unused column is overwritten with zeros
   void sweep(double* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
              InstructionSet isa) const;
+  void sweep(float* positions, bool reverse, double k_stretch, double k_bend, BendingAngle kind,
+             InstructionSet isa) const;
+
+  /// `iterations` sweeps, alternately forward and reverse (symmetric Gauss-Seidel),
+  /// each colour's batches split between the members of `team` (null: this thread
+  /// alone). The result is bitwise the same for any team size.
+  void project(double* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind,
+               InstructionSet isa, ThreadTeam* team) const;
+  void project(float* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind, InstructionSet isa,
+               ThreadTeam* team) const;
+
+  /// The kernels' corrections of every constraint at `positions`, nothing moved
+  /// (all constraints projected from the same positions): for comparing the SIMD
+  /// kernels with the scalar reference (reference_projections.h).
+  ///   stretch_corr  #S by 6 (dp1, dp2) per ConstraintSet stretch row, bending_corr
+  ///                 #B by 12 (dp1..dp4) per bending row; zero for rows not kept
+  void corrections(const double* positions, double k_stretch, double k_bend, BendingAngle kind, InstructionSet isa,
+                   Eigen::MatrixXd& stretch_corr, Eigen::MatrixXd& bending_corr) const;
+  void corrections(const float* positions, double k_stretch, double k_bend, BendingAngle kind, InstructionSet isa,
+                   Eigen::MatrixXd& stretch_corr, Eigen::MatrixXd& bending_corr) const;
 
   /// The order of projection (forward sweep): indices of rows of the
   /// ConstraintSet's stretch and bending constraints.
   const std::vector<int>& stretch_order() const { return stretch_order_; }
   const std::vector<int>& bending_order() const { return bending_order_; }
-  size_t stretch_batch_count() const { return stretch_.size(); }
-  size_t bending_batch_count() const { return bending_.size(); }
 
-  /// N constraint vertices per lane; lanes at and beyond `count` are padding
+  /// Where each colour's batches start (begin.back() = batch count). A vertex of
+  /// valence beyond the colouring's 64 colours sends constraints to a last colour
+  /// whose members may share vertices: then `last_shares_vertices`, and one thread
+  /// sweeps it.
+  struct Colours {
+    std::vector<size_t> begin;
+    bool last_shares_vertices = false;
+  };
+  /// The batches of one kind of constraint: lanes in use per batch and the vertex
+  /// of each slot and lane; lanes at and beyond a batch's count are padding
   /// (inverse masses 0, vertices of lane 0), computed but not written back.
-  template <int N>
-  struct alignas(lanes::kBatchAlignment) Batch {
-    /// Inverse masses of each vertex slot; for stretch (N = 2) their shares
-    /// w_i / (w_1 + w_2) (kernels::stretch_shares), which are all the projection needs.
-    alignas(lanes::kBatchAlignment) lanes::Batch w[N];
-    alignas(lanes::kBatchAlignment) lanes::Batch rest;  ///< rest length or signed rest angle
-    int q[N][kWidth];                                   ///< vertex indices
-    int count;
+  struct Layout {
+    Colours colours;
+    std::vector<int> count;  ///< #batches
+    std::vector<int> q;      ///< #batches by slots by width vertex indices
+    size_t batch_count() const { return count.size(); }
+  };
+  const Layout& stretch_layout() const { return stretch_; }
+  const Layout& bending_layout() const { return bending_; }
+  size_t stretch_batch_count() const { return stretch_.batch_count(); }
+  size_t bending_batch_count() const { return bending_.batch_count(); }
+
+  /// The numbers of the batches of one kind in one precision: per batch, each
+  /// slot's inverse masses (stretch: their shares w_i / (w_1 + w_2), which are all
+  /// the projection needs) and the rest lengths or signed rest angles, lane by lane.
+  template <class S>
+  struct Numbers {
+    std::vector<S, AlignedAllocator<S>> w;     ///< #batches by slots by width
+    std::vector<S, AlignedAllocator<S>> rest;  ///< #batches by width
   };
 
  private:
-  std::vector<Batch<2>> stretch_;
-  std::vector<Batch<4>> bending_;
+  template <class S>
+  void check(InstructionSet isa) const;
+
+  int width_;
+  Precision precision_;
   std::vector<int> stretch_order_, bending_order_;
+  Layout stretch_, bending_;
+  Numbers<double> stretch_double_, bending_double_;  // filled in double precision
+  Numbers<float> stretch_single_, bending_single_;   // filled in single precision
+  Eigen::Index stretch_rows_, bending_rows_;         // of the ConstraintSet
 };
 
 }  // namespace tb::pbd

@@ -30,7 +30,7 @@ double stretch_constraint(const Vec3& p1, const Vec3& p2, double rest_length) { 
 void stretch_gradient(const Vec3& p1, const Vec3& p2, Vec3& g1, Vec3& g2) {
   const Vec3 d = p1 - p2;
   const double len = d.norm();
-  g1 = len > kernels::kTiny ? Vec3(d / len) : Vec3::Zero();
+  g1 = len > kTiny ? Vec3(d / len) : Vec3::Zero();
   g2 = -g1;
 }
 

@@ -12,6 +12,19 @@ namespace tb::pbd {
 
 using Vec3 = Eigen::Vector3d;
 
+/// Lengths, squared normal lengths and projection denominators at or below this
+/// count as degenerate: the constraint then moves nothing (kernels and reference alike).
+constexpr double kTiny = 1e-30;
+/// A bending projection's denominator sum_j w_j |grad_j C|^2 at or below this
+/// fraction of (sum_j w_j) max_j |grad_j C|^2 is rounding noise: the free vertices
+/// cannot change the angle to first order (a free hinge end whose wings' feet both
+/// lie at the other end), and C / |grad C| would be noise over noise.
+constexpr double kNoiseGradient = 1e-20;
+/// The same for a sweep in single precision, whose rounding noise is about
+/// (6e-8)^2 = 4e-15 of that scale: 1e-10 lies well above it and below any
+/// gradient ratio (1e-5) that matters.
+constexpr double kNoiseGradientSingle = 1e-10;
+
 /// Which angle the bending constraint keeps: the paper's eq. (19),
 /// C = arccos(n1 . n2) - phi0 = |theta| - |theta0|, whose gradient flips sign
 /// where the pair passes through flat (theta = 0: a kink that a rest-curved pair

@@ -1,15 +1,19 @@
-// Arithmetic written once for a single double and for a batch of doubles (a GCC
-// vector, one constraint per lane), so that the PBD sweep, which projects a batch
-// of independent constraints at a time, and the scalar constraint functions
-// compute bitwise the same numbers. Every operation here is either exactly
-// rounded (+ - * / sqrt) or a select, so a lane of a batch equals the scalar
-// result whatever the vector width; the build keeps FMA contraction off for the
-// files that use it (models/CMakeLists.txt), which would break that equality.
+// Arithmetic written once for a single number and for a batch of numbers (a GCC
+// vector, one constraint per lane), in double or single precision, so that the
+// PBD sweep, which projects a batch of independent constraints at a time, and the
+// scalar constraint functions compute bitwise the same numbers. Every operation
+// here is either exactly rounded (+ - * / sqrt) or a select, so a lane of a batch
+// equals the scalar result of the same precision whatever the vector width; the
+// build keeps FMA contraction off for the files that use it (models/CMakeLists.txt),
+// which would break that equality (and FMA measured 4% faster, 8% fewer
+// instructions, on a 10k-vertex frame: not worth a second set of numbers).
 #pragma once
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
+#include <utility>
 
 namespace tb::pbd {
 
@@ -20,20 +24,28 @@ namespace tb::pbd {
 
 namespace lanes {
 
-/// Four doubles in one AVX vector register: a batch. +, -, *, / and comparisons
-/// act lane by lane, comparisons giving a mask (-1 true, 0 false).
-/// Stored batches need alignas(kBatchAlignment): without AVX enabled GCC gives
-/// the type 16-byte alignment, but code compiled for AVX assumes 32.
-typedef double Batch __attribute__((vector_size(4 * sizeof(double))));
-constexpr size_t kBatchAlignment = sizeof(Batch);
-constexpr int kBatchWidth = sizeof(Batch) / sizeof(double);
+/// W numbers of type S in one vector: a batch. +, -, *, / and comparisons act
+/// lane by lane, comparisons giving a mask (-1 true, 0 false). Such vectors never
+/// cross a call (the kernels are inlined into one function per instruction set),
+/// so their ABI does not matter.
+template <class S, int W>
+struct VectorOf {
+  typedef S type __attribute__((vector_size(W * sizeof(S))));
+};
+template <class S, int W>
+using Vector = typename VectorOf<S, W>::type;
+
+/// Four doubles (one AVX register): the batch of the double-precision kernels'
+/// tests and of the scalar wrappers' lane count.
+using Batch = Vector<double, 4>;
+constexpr int kBatchWidth = 4;
 
 /// Two doubles in one SSE2 register.
-typedef double Vector2 __attribute__((vector_size(2 * sizeof(double))));
+using Vector2 = Vector<double, 2>;
 
-/// Two vectors acting as one of twice the lanes: a batch of four as two SSE2
-/// registers. GCC's own 4-double vectors would do, but without AVX it lowers their
-/// comparisons to scalar code (the PBD frame measured 2.3x slower than this).
+/// Two vectors acting as one of twice the lanes: a batch of four doubles as two
+/// SSE2 registers. GCC's own 4-double vectors would do, but without AVX it lowers
+/// their comparisons to scalar code (the PBD frame measured 2.3x slower than this).
 template <class V>
 struct Twin {
   V lo, hi;
@@ -68,24 +80,44 @@ TB_PBD_INLINE Twin<V>& operator+=(Twin<V>& a, const Twin<V>& b) {
   return a = a + b;
 }
 
+/// The number type of T: T itself for a number, the lanes' type for a batch.
+template <class T, class = void>
+struct ElementOf {
+  using type = std::remove_cv_t<std::remove_reference_t<decltype(std::declval<T>()[0])>>;
+};
+template <class T>
+struct ElementOf<T, std::enable_if_t<std::is_arithmetic_v<T>>> {
+  using type = T;
+};
+template <class V>
+struct ElementOf<Twin<V>> {
+  using type = typename ElementOf<V>::type;
+};
+template <class T>
+using Element = typename ElementOf<T>::type;
+
+/// Lanes of T (1 for a number).
 template <class T>
 constexpr int width() {
-  if constexpr (std::is_same_v<T, double>)
+  if constexpr (std::is_arithmetic_v<T>)
     return 1;
   else
-    return sizeof(T) / sizeof(double);
+    return static_cast<int>(sizeof(T) / sizeof(Element<T>));
 }
 
-/// The constant c in every lane (T{} is zero in every lane).
+/// The constant c in every lane (T{} is zero in every lane), rounded to T's precision.
 template <class T>
 TB_PBD_INLINE T splat(double c) {
-  return T{} + c;
+  if constexpr (std::is_arithmetic_v<T>)
+    return static_cast<T>(c);
+  else
+    return T{} + static_cast<Element<T>>(c);
 }
 
 /// m ? a : b, lane by lane for a batch (m from a comparison of batches).
 template <class M, class T>
 TB_PBD_INLINE T select(M m, T a, T b) {
-  if constexpr (std::is_same_v<T, double>) {
+  if constexpr (std::is_arithmetic_v<T>) {
     return m ? a : b;
   } else {  // as bit operations (and, andnot, or): GCC may lower a vector ?: to scalar code
     return reinterpret_cast<T>((m & reinterpret_cast<M>(a)) | (~m & reinterpret_cast<M>(b)));
@@ -94,10 +126,10 @@ TB_PBD_INLINE T select(M m, T a, T b) {
 
 template <class T>
 TB_PBD_INLINE T sqrt(T x) {
-  if constexpr (std::is_same_v<T, double>) {
+  if constexpr (std::is_arithmetic_v<T>) {
     return std::sqrt(x);
   } else {
-    T r;  // one vsqrtpd with -fno-math-errno (models/CMakeLists.txt)
+    T r;  // one vsqrtpd / vsqrtps with -fno-math-errno (models/CMakeLists.txt)
     for (int l = 0; l < width<T>(); ++l) r[l] = std::sqrt(x[l]);
     return r;
   }
@@ -105,11 +137,12 @@ TB_PBD_INLINE T sqrt(T x) {
 
 template <class T>
 TB_PBD_INLINE T abs(T x) {
-  if constexpr (std::is_same_v<T, double>) {
+  if constexpr (std::is_arithmetic_v<T>) {
     return std::fabs(x);
-  } else {  // clear the sign bits: one instruction
+  } else {  // clear the sign bits (the integer minimum's bit pattern): one instruction
     using Bits = decltype(x < x);
-    return reinterpret_cast<T>(reinterpret_cast<Bits>(x) & ~(Bits{} + (1LL << 63)));
+    const Bits sign = Bits{} + std::numeric_limits<Element<Bits>>::min();
+    return reinterpret_cast<T>(reinterpret_cast<Bits>(x) & ~sign);
   }
 }
 
@@ -126,38 +159,57 @@ TB_PBD_INLINE Twin<V> abs(const Twin<V>& x) {
   return {abs(x.lo), abs(x.hi)};
 }
 
-/// atan2(y, x) in [-pi, pi] from Cephes' atan (S. Moshier, rational minimax
-/// approximation on [0, 0.66], about 1e-16 relative), with the octant reduction
-/// done by selects so that it vectorises; glibc's atan2 does not, and was 28% of a
-/// PBD frame. atan2(0, 0) = 0 (no NaN); y = -0 counts as positive.
+/// atan2(y, x) in [-pi, pi], with the octant reduction done by selects so that it
+/// vectorises; glibc's atan2 does not, and was 28% of a PBD frame. atan2(0, 0) = 0
+/// (no NaN); y = -0 counts as positive. Double: Cephes' atan (S. Moshier, rational
+/// minimax approximation on [0, 0.66], about 1e-16 relative). Single: Cephes'
+/// atanf (polynomial on [0, tan(pi/8)], about 1 float ulp).
 template <class T>
 TB_PBD_INLINE T atan2(T y, T x) {
+  using S = Element<T>;
+  constexpr bool single = std::is_same_v<S, float>;
   constexpr double kPi = 3.14159265358979323846, kMoreBits = 6.123233995736765886130e-17;  // pi/2 - fl(pi/2)
   const T ax = abs(x), ay = abs(y);
   const auto steep = ay > ax;  // the angle is beyond pi/4: atan(a) = pi/2 - atan(1/a)
   const T num = select(steep, ax, ay), den = select(steep, ay, ax);  // a = num / den in [0, 1]
-  // Beyond a = 0.66, tan(pi/4 + z) = a gives z = (a - 1)/(a + 1) = (num - den)/(num + den),
-  // |z| < 0.21; below, z = a. One division either way; den = 0 only at the origin.
-  const auto high = num > 0.66 * den;
-  const T z = select(high, num - den, num) / select(high, num + den, select(den > T{}, den, splat<T>(1)));
+  // Beyond a = split, tan(pi/4 + z) = a gives z = (a - 1)/(a + 1) = (num - den)/(num + den).
+  // One division either way; den = 0 only at the origin.
+  const auto high = num > splat<T>(single ? 0.41421356237309504880 : 0.66) * den;
+  const T one = splat<T>(1);
+  const T z = select(high, num - den, num) / select(high, num + den, select(den > T{}, den, one));
   const T z2 = z * z;
-  const T p = (((-8.750608600031904122785e-1 * z2 - 1.615753718733365076637e1) * z2 - 7.500855792314704667340e1) * z2 -
-               1.228866684490136173410e2) *
-                  z2 -
-              6.485021904942025371773e1;
-  const T q =
-      ((((z2 + 2.485846490142306297962e1) * z2 + 1.650270098316988542046e2) * z2 + 4.328810604912902668951e2) * z2 +
-       4.853903996359136964868e2) *
-          z2 +
-      1.945506571482613964425e2;
-  const T small = z + z * (z2 * p / q);                                      // atan(z)
-  T r = select(high, splat<T>(kPi / 4) + (small + 0.5 * kMoreBits), small);  // atan(a) in [0, pi/4]
-  r = select(steep, splat<T>(kPi / 2) - r + kMoreBits, r);                   // [0, pi/2]
-  r = select(x < T{}, splat<T>(kPi) - r + 2 * kMoreBits, r);                 // [0, pi]
-  return select(y < T{}, -r, r);
+  T small;  // atan(z)
+  if constexpr (single) {
+    const T p =
+        ((splat<T>(8.05374449538e-2) * z2 - splat<T>(1.38776856032e-1)) * z2 + splat<T>(1.99777106478e-1)) * z2 -
+        splat<T>(3.33329491539e-1);
+    small = z + z * (z2 * p);
+    T r = select(high, splat<T>(kPi / 4) + small, small);  // atan(a) in [0, pi/4]
+    r = select(steep, splat<T>(kPi / 2) - r, r);           // [0, pi/2]
+    r = select(x < T{}, splat<T>(kPi) - r, r);             // [0, pi]
+    return select(y < T{}, -r, r);
+  } else {
+    const T p = (((splat<T>(-8.750608600031904122785e-1) * z2 - splat<T>(1.615753718733365076637e1)) * z2 -
+                  splat<T>(7.500855792314704667340e1)) *
+                     z2 -
+                 splat<T>(1.228866684490136173410e2)) *
+                    z2 -
+                splat<T>(6.485021904942025371773e1);
+    const T q = ((((z2 + splat<T>(2.485846490142306297962e1)) * z2 + splat<T>(1.650270098316988542046e2)) * z2 +
+                  splat<T>(4.328810604912902668951e2)) *
+                     z2 +
+                 splat<T>(4.853903996359136964868e2)) *
+                    z2 +
+                splat<T>(1.945506571482613964425e2);
+    small = z + z * (z2 * p / q);
+    T r = select(high, splat<T>(kPi / 4) + (small + splat<T>(0.5 * kMoreBits)), small);  // atan(a) in [0, pi/4]
+    r = select(steep, splat<T>(kPi / 2) - r + splat<T>(kMoreBits), r);                   // [0, pi/2]
+    r = select(x < T{}, splat<T>(kPi) - r + splat<T>(2 * kMoreBits), r);                 // [0, pi]
+    return select(y < T{}, -r, r);
+  }
 }
 
-/// A 3-vector of doubles or of batches (one vector per lane).
+/// A 3-vector of numbers or of batches (one vector per lane).
 template <class T>
 struct Triple {
   T x, y, z;

@@ -1,5 +1,7 @@
 #include "pbd_model.h"
 
+#include <chrono>
+
 #include "load_mapping.h"
 #include "pbd_solver.h"
 
@@ -23,15 +25,22 @@ class PbdModel : public Model {
             .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
             .nodes(0);
     solver_->step(load_vertex, load.force, no_pins_, no_pin_positions_);
+    const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
+    const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    phases_[0].ms = solver_->last_projection_ms();
+    phases_[1].ms = solver_->last_integration_ms() + rest_ms;
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
+  nlohmann::json report() const override { return solver_->details(); }
 
  private:
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
   PerLoadPoint<LoadStencil> load_vertex_;
+  std::vector<PhaseTime> phases_{{phase::kProjection}, {phase::kIntegration}};
   const std::vector<int> no_pins_;
   const Points no_pin_positions_;
 };

@@ -2,11 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <stdexcept>
 
 #include "constraints.h"
 #include "mesh_checks.h"
+#include "reference_projections.h"
 
 namespace tb::pbd {
 namespace {
@@ -33,6 +35,18 @@ std::vector<ParameterSpec> parameter_specs() {
       P::choice("bending_angle", {"unsigned", "signed"}, "unsigned",
                 "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
                 "signed: theta - theta0, smooth there"),
+      P::choice(
+          "kernels", {"simd", "reference"}, "simd",
+          "simd: the batched vector kernels (projection_kernels.h); reference: the scalar projections written "
+          "from eqs. (14)-(30) (reference_projections.h), one constraint at a time in the same order, one thread"),
+      P::whole_number("threads", 1, 1, 64,
+                      "threads sweeping each colour's constraints (the result does not depend on it)"),
+      P::choice("precision", {"double", "single"}, "double",
+                "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
+                "from double's by rounding, README)"),
+      P::choice("instruction_set", {"auto", "sse2", "avx", "avx512"}, "auto",
+                "the sweep's vector instructions; auto: avx where the CPU has it, else sse2 (avx512 measured slower on "
+                "this project's AMD EPYC: only when asked); double precision gives the same numbers on every one"),
   };
 }
 
@@ -45,6 +59,19 @@ Settings Settings::from(const Parameters& p) {
   s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
   s.damping = p.number("damping");
   s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
+  s.kernels = p.choice("kernels") == "reference" ? Kernels::Reference : Kernels::Simd;
+  s.threads = p.integer("threads");
+  s.precision = p.choice("precision") == "single" ? Precision::Single : Precision::Double;
+  const std::string& isa = p.choice("instruction_set");
+  if (isa != "auto")
+    s.instruction_set = isa == "avx512" ? InstructionSet::Avx512
+                        : isa == "avx"  ? InstructionSet::Avx
+                                        : InstructionSet::Sse2;
+  if (s.kernels == Kernels::Reference && s.threads != 1)
+    throw std::invalid_argument(
+        "PBD parameters: kernels 'reference' runs on one thread (threads = " + std::to_string(s.threads) + " given)");
+  if (s.kernels == Kernels::Reference && s.precision != Precision::Double)
+    throw std::invalid_argument("PBD parameters: kernels 'reference' runs in double precision");
   return s;
 }
 
@@ -101,30 +128,92 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
       p_(rest.V.rows()),
+      q_(0),
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
       c_(build_constraints(rest)),
-      batches_(c_, w_),
-      isa_(best_instruction_set()),
-      s_(settings) {
+      s_(settings),
+      isa_(s_.instruction_set.value_or(best_instruction_set())),
+      batches_(c_, w_, batch_width(isa_, s_.precision), s_.precision) {
+  if (!cpu_supports(isa_))
+    throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
+  if (s_.precision == Precision::Single) q_ = PaddedRows<float>(rest.V.rows());
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
+  if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
+  if (s_.kernels == Kernels::Reference && (s_.threads != 1 || s_.precision != Precision::Double))
+    throw std::invalid_argument("PBD solver: the reference kernels run on one thread in double precision");
+  if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
 }
 
 void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
                   const Points& pinned_positions) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   const double dt = s_.time_step;
   if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
   v_ *= (1 - s_.damping);
   p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  const auto t1 = Clock::now();
   for (size_t k = 0; k < pinned.size(); ++k)
     p_.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
-  for (int it = 0; it < s_.iterations; ++it)
-    batches_.sweep(p_.data(), it % 2 == 1, k_stretch_, k_bend_, s_.bending_angle, isa_);
+  if (s_.kernels == Kernels::Simd && s_.precision == Precision::Single) {
+    q_.matrix() = p_.matrix().cast<float>();
+    batches_.project(q_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+    p_.matrix() = q_.matrix().cast<double>();
+  } else if (s_.kernels == Kernels::Simd) {
+    batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+  } else {
+    for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
+  }
+  const auto t2 = Clock::now();
   v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
   x_ = p_.matrix().leftCols<3>();              // eq. (34)
+  const auto t3 = Clock::now();
+  using Ms = std::chrono::duration<double, std::milli>;
+  projection_ms_ = Ms(t2 - t1).count();
+  integration_ms_ = Ms(t1 - t0).count() + Ms(t3 - t2).count();
+}
+
+nlohmann::json Solver::details() const {
+  const bool reference = s_.kernels == Kernels::Reference;
+  return {{"instruction_set", reference ? "scalar" : name(isa_)},
+          {"lanes", reference ? 1 : batches_.width()},
+          {"precision", name(s_.precision)},
+          {"threads", s_.threads}};
+}
+
+void Solver::use_instruction_set(InstructionSet isa) {
+  if (batch_width(isa, s_.precision) != batches_.width())
+    batches_ = ConstraintBatches(c_, w_, batch_width(isa, s_.precision), s_.precision);
+  isa_ = isa;
+}
+
+void Solver::reference_sweep(bool reverse) {
+  double* x = p_.data();
+  auto P = [x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * Eigen::Index{v}); };
+  const std::vector<int>& so = batches_.stretch_order();
+  for (size_t k = 0; k < so.size(); ++k) {
+    const int i = so[reverse ? so.size() - 1 - k : k];
+    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
+    Vec3 ca, cb;
+    reference::project_stretch(P(a), w_(a), P(b), w_(b), c_.stretch_rest(i), k_stretch_, ca, cb);
+    P(a) += ca;
+    P(b) += cb;
+  }
+  if (k_bend_ <= 0) return;
+  const std::vector<int>& bo = batches_.bending_order();
+  for (size_t k = 0; k < bo.size(); ++k) {
+    const int i = bo[reverse ? bo.size() - 1 - k : k];
+    int q[4];
+    for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
+    Vec3 corr[4];
+    reference::project_bending(P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]),
+                               c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
+    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
+  }
 }
 
 }  // namespace tb::pbd

@@ -4,17 +4,25 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "constraint_batches.h"
 #include "constraints.h"
 #include "mesh_types.h"
 #include "parameters.h"
+#include "thread_team.h"
 
 namespace tb::pbd {
 
 /// The PBD parameters common to the pbd and hybrid models, declared once.
 std::vector<ParameterSpec> parameter_specs();
+
+/// Which implementation projects the constraints: the batched SIMD kernels
+/// (projection_kernels.h) or the scalar reference written from the equations
+/// (reference_projections.h), one constraint at a time in the same order.
+enum class Kernels { Simd, Reference };
 
 struct Settings {
   double time_step = 0.01;                              ///< s
@@ -24,6 +32,12 @@ struct Settings {
   bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
   double damping = 0.05;                                ///< fraction of velocity removed per frame
   BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
+  Kernels kernels = Kernels::Simd;
+  int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
+  /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
+  Precision precision = Precision::Double;
+  /// The sweep's vector instructions; none: best_instruction_set().
+  std::optional<InstructionSet> instruction_set;
   static Settings from(const Parameters& p);
 };
 
@@ -65,18 +79,33 @@ class Solver {
   const ConstraintSet& constraints() const { return c_; }
   /// The vector instructions the projection runs with (the results do not depend on it).
   InstructionSet instruction_set() const { return isa_; }
-  /// Run the projection with `isa` instead of the best this CPU has.
-  void use_instruction_set(InstructionSet isa) { isa_ = isa; }
+  /// Run the projection with `isa` instead of the best this CPU has (repacks the
+  /// batches when their width changes: a set-up call, it allocates).
+  void use_instruction_set(InstructionSet isa);
+  const Settings& settings() const { return s_; }
+  /// Time (ms) the last step() spent in the projection (eq. 33 and the sweeps) and
+  /// in the rest of the time step (eqs. 31-32, 34-35).
+  double last_projection_ms() const { return projection_ms_; }
+  double last_integration_ms() const { return integration_ms_; }
+  /// What the projection ran with, for run.json: {"instruction_set": "avx512" |
+  /// "avx" | "sse2" | "scalar" (reference kernels), "lanes": per batch, "precision",
+  /// "threads"}.
+  nlohmann::json details() const;
 
  private:
   Points rest_, x_, v_;
-  PaddedPositions p_;  // the predicted positions the projection moves
+  PaddedPositions p_;    // the predicted positions the projection moves
+  PaddedRows<float> q_;  // the same in single precision, for a single-precision sweep (else empty)
   Eigen::VectorXd w_;
   ConstraintSet c_;
-  ConstraintBatches batches_;  // c_ ordered and packed for the sweep
-  InstructionSet isa_;
   Settings s_;
+  InstructionSet isa_;
+  ConstraintBatches batches_;  // c_ ordered and packed for the sweep
   double k_stretch_, k_bend_;
+  std::unique_ptr<ThreadTeam> team_;  // null with one thread
+  double projection_ms_ = 0, integration_ms_ = 0;
+  /// One sweep with the reference projections, in the batches' order.
+  void reference_sweep(bool reverse);
 };
 
 }  // namespace tb::pbd

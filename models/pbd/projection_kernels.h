@@ -1,5 +1,6 @@
 // The constraint projections of paper 1.4 as kernels over one constraint (T =
-// double) or a batch of independent constraints, one per lane (T = lanes::Batch).
+// double or float) or a batch of independent constraints, one per lane (T = a
+// lanes::Vector or Twin).
 // constraints.h wraps them for single constraints; the solver's sweep runs them
 // on batches. Branch-free: a lane that cannot move (degenerate or fixed) gets zero
 // corrections and a false mask entry.
@@ -11,7 +12,6 @@
 namespace tb::pbd::kernels {
 
 using lanes::Triple;
-constexpr double kTiny = 1e-30;
 
 /// Signed angle theta between the wing normals, turning about the edge p2 - p1,
 /// and (if grad) its gradient; |theta| = arccos(n1 . n2). The normals are
@@ -59,8 +59,9 @@ TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad)
 
 /// The inverse-mass shares w1 / (w1 + w2) and w2 / (w1 + w2) of a stretch
 /// constraint's correction (0 when both points are fixed); constant per constraint.
-inline void stretch_shares(double w1, double w2, double& share1, double& share2) {
-  const double wsum = w1 + w2;
+template <class S>
+inline void stretch_shares(S w1, S w2, S& share1, S& share2) {
+  const S wsum = w1 + w2;
   share1 = wsum > 0 ? w1 / wsum : 0;
   share2 = wsum > 0 ? w2 / wsum : 0;
 }
@@ -77,7 +78,7 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
   const T len = lanes::sqrt(dot(d, d));
   const auto ok = (share1 + share2 > T{}) & (len > lanes::splat<T>(kTiny));
   const T inv_len = one / lanes::select(ok, len, one);  // starts while len - rest is computed
-  const T s = lanes::select(ok, stiffness * (len - rest_length) * inv_len, T{});
+  const T s = lanes::select(ok, lanes::splat<T>(stiffness) * (len - rest_length) * inv_len, T{});
   corr1 = (-s * share1) * d;  // eq. (17)
   corr2 = (s * share2) * d;   // eq. (18)
   return ok;
@@ -86,7 +87,8 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
 /// Bending projection: dp_i = -s w_i C / (sum_j w_j |grad_j C|^2) grad_i C (eq. 13
 /// with masses; the paper's eq. (26) with its extra factor 4 is Mueller 2007's
 /// typo, not used), C as `kind` says (constraints.h). rest_angle is the signed
-/// rest angle theta0. The mask is false (zero corrections) where nothing moves.
+/// rest angle theta0. The mask is false (zero corrections) where nothing moves:
+/// degenerate, or the denominator at or below kTiny or kNoiseGradient of its scale.
 template <class T>
 TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_angle, double stiffness,
                                    BendingAngle kind, Triple<T> corr[4]) {
@@ -98,12 +100,18 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
     sign = lanes::select(theta < T{}, lanes::splat<T>(-1), sign);
     c = lanes::abs(theta) - lanes::abs(rest_angle);
   }
-  T denom{};
-  for (int k = 0; k < 4; ++k) denom += w[k] * dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
-  ok = ok & (denom > lanes::splat<T>(kTiny));
+  T denom{}, largest{};
+  for (int k = 0; k < 4; ++k) {
+    const T g2 = dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
+    denom += w[k] * g2;
+    largest = lanes::select(g2 > largest, g2, largest);
+  }
+  ok = ok & (denom > lanes::splat<T>(kTiny)) &
+       (denom > lanes::splat<T>(std::is_same_v<lanes::Element<T>, float> ? kNoiseGradientSingle : kNoiseGradient) *
+                    ((w[0] + w[1] + w[2] + w[3]) * largest));
   // The reciprocal of denom does not wait for the angle (c): off the critical path.
   const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
-  const T s = lanes::select(ok, -stiffness * c * inv_denom, T{}) * sign;
+  const T s = lanes::select(ok, lanes::splat<T>(-stiffness) * c * inv_denom, T{}) * sign;
   for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * corr[k];
   return ok;
 }

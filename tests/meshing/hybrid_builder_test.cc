@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <numeric>
+#include <random>
 #include <set>
 
 #include "atomic_file.h"
@@ -18,6 +20,8 @@
 #include "point_location.h"
 #include "scenario.h"
 #include "test_support.h"
+#include "vertex_selection.h"
+#include "winding_number_tree.h"
 
 namespace tb {
 namespace {
@@ -198,6 +202,71 @@ TEST(TetgenDriver, DelaunayOfCoplanarHullPointsDropsSlivers) {
   EXPECT_NEAR(total_volume(m), 1.0, 1e-12);
   for (Eigen::Index t = 0; t < m.T.rows(); ++t)
     EXPECT_GT(tet_volume(m.V.row(m.T(t, 0)), m.V.row(m.T(t, 1)), m.V.row(m.T(t, 2)), m.V.row(m.T(t, 3))), 1e-12);
+}
+
+TEST(VertexSelection, GridSearchSelectsWhatComparingWithEverySelectedVertexDoes) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Points V(3000, 3);
+  for (Eigen::Index i = 0; i < V.size(); ++i) V.data()[i] = U(rng);
+  V.row(7) = V.row(3);  // a duplicate
+  std::vector<int> priority(3000);
+  for (size_t i = 0; i < priority.size(); ++i) priority[i] = static_cast<int>(i % 3);
+  for (double spacing : {1e-3, 0.05, 0.2, 0.7, 5.0}) {
+    // The definition: visit by (priority, index), keep v unless a kept vertex is closer than spacing.
+    std::vector<int> order(3000), expected;
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return priority[a] < priority[b]; });
+    for (int v : order) {
+      bool covered = false;
+      for (int w : expected) covered = covered || (V.row(v) - V.row(w)).squaredNorm() < spacing * spacing;
+      if (!covered) expected.push_back(v);
+    }
+    EXPECT_EQ(select_covering_vertices(V, priority, spacing), expected) << "spacing " << spacing;
+  }
+}
+
+TEST(TetLocator, FindsWhatLocatePointFinds) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(-0.06, 0.06), Z(-0.01, 0.11);
+  for (const TetMesh* m : {&h.coarse_volume, &h.fine_volume}) {
+    const TetLocator locator(*m);
+    std::vector<Eigen::Vector3d> points;
+    for (int trial = 0; trial < 400; ++trial) points.emplace_back(U(rng), U(rng), Z(rng));
+    for (Eigen::Index v = 0; v < m->V.rows(); v += 7) points.push_back(m->V.row(v).transpose());  // on shared faces
+    for (const Eigen::Vector3d& p : points) {
+      const TetEmbedding a = locate_point(*m, p), b = locator.locate(p);
+      ASSERT_EQ(a.tet, b.tet) << p.transpose();
+      EXPECT_EQ(a.weights, b.weights);
+      EXPECT_EQ(a.distance, b.distance);
+    }
+  }
+}
+
+TEST(WindingNumberTree, ClassifiesLikeTheExactSum) {
+  // The L-shaped solid (non-convex) and the paper's cube, at random points in and
+  // around them: the tree's far field differs from the exact sum by little, and
+  // never on the wrong side of 1/2 away from the surface.
+  const SurfaceMesh& cube = testing::scenario_mesh("cube-pull", false).fine_surface;
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> U(-0.08, 0.08), Z(-0.03, 0.13);
+  const WindingNumberTree tree(cube);
+  double worst = 0;
+  int near_surface = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Eigen::Vector3d p(U(rng), U(rng), Z(rng));
+    const double exact = winding_number(cube, p), fast = tree(p);
+    worst = std::max(worst, std::abs(exact - fast));
+    if (std::abs(exact - 0.5) < 0.45) {
+      ++near_surface;  // within a triangle or so of the surface
+      continue;
+    }
+    EXPECT_EQ(exact > 0.5, fast > 0.5) << p.transpose();
+  }
+  EXPECT_LT(worst, 0.05);  // a tenth of the margin to 1/2 (measured 0.013)
+  EXPECT_LT(near_surface, 30);
+  RecordProperty("max_abs_difference", std::to_string(worst));
 }
 
 TEST(TetgenDriver, MissingProgramIsAClearError) {

@@ -43,13 +43,18 @@ std::vector<Case> every_model() {
   cases.push_back({"fem", {{"solver", "iterative"}}});
   cases.push_back({"hybrid", {{"coarse_solver", "iterative"}}});
   cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}});
+  cases.push_back({"pbd", {{"threads", 2}}});
+  cases.push_back({"hybrid", {{"threads", 2}}});
+  cases.push_back({"pbd", {{"kernels", "reference"}}});
+  cases.push_back({"pbd", {{"precision", "single"}}});
   return cases;
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame, ::testing::ValuesIn(every_model()),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            std::string name = i.param.model;
-                           for (const auto& [k, v] : i.param.parameters.items()) name += "_" + v.get<std::string>();
+                           for (const auto& [key, value] : i.param.parameters.items())
+                             name += "_" + (value.is_string() ? value.get<std::string>() : key + value.dump());
                            return name;
                          });
 

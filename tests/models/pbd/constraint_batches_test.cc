@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "load_mapping.h"
 #include "pbd_solver.h"
 #include "projection_kernels.h"
 #include "test_support.h"
@@ -49,6 +50,34 @@ TEST(LaneMath, Atan2AgreesWithTheCLibraryAndIsTheSameInEveryLane) {
   EXPECT_NEAR(lanes::atan2(-1.0, -1.0), -3 * M_PI / 4, 4e-16);
 }
 
+TEST(LaneMath, SinglePrecisionAtan2AgreesWithTheCLibraryAndIsTheSameInEveryLane) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> U(-1, 1), E(-8, 8);
+  using Floats = lanes::Vector<float, 8>;
+  double worst = 0;
+  for (int trial = 0; trial < 50000; ++trial) {
+    Floats y, x;
+    for (int l = 0; l < 8; ++l) {
+      y[l] = U(rng) * std::pow(10.0f, E(rng));
+      x[l] = U(rng) * std::pow(10.0f, E(rng));
+    }
+    const Floats r = lanes::atan2(y, x);
+    for (int l = 0; l < 8; ++l) {
+      const float scalar = lanes::atan2(y[l], x[l]);
+      ASSERT_EQ(r[l], scalar) << "lane " << l;
+      const float exact = static_cast<float>(std::atan2(double{y[l]}, double{x[l]}));
+      worst = std::max(
+          worst, std::abs(double{scalar} - exact) / (std::nextafter(std::abs(exact), INFINITY) - std::abs(exact)));
+    }
+  }
+  // Cephes' atanf is within about 1 float ulp, the octant reduction adds up to
+  // two roundings: 4 ulps allowed.
+  EXPECT_LE(worst, 4.0);
+  RecordProperty("max_float_ulps", std::to_string(worst));
+  EXPECT_EQ(lanes::atan2(0.0f, 0.0f), 0.0f);
+  EXPECT_EQ(lanes::atan2(0.0f, -2.0f), static_cast<float>(M_PI));
+}
+
 /// The cube's surface, randomly disturbed, with its bottom fixed.
 struct DisturbedCube {
   const SurfaceMesh& surface = testing::scenario_mesh("cube-pull", false).fine_surface;
@@ -66,30 +95,42 @@ struct DisturbedCube {
   }
 };
 
-/// One forward or reverse sweep as plain Gauss-Seidel: project_stretch and
-/// project_bending on one constraint at a time, in the batches' order.
-void sequential_sweep(const DisturbedCube& c, const ConstraintBatches& b, Points& x, bool reverse, double ks, double kb,
-                      BendingAngle kind) {
-  auto P = [&x](int v) { return Eigen::Map<Vec3>(x.data() + 3 * static_cast<Eigen::Index>(v)); };
-  const Eigen::VectorXd& w = c.inverse_mass;
+/// One forward or reverse sweep as plain Gauss-Seidel in precision S: the
+/// kernels on one constraint at a time (for double, what constraints.h's
+/// project_stretch and project_bending compute), in the batches' order.
+template <class S>
+void sequential_sweep(const DisturbedCube& c, const ConstraintBatches& b, Eigen::Matrix<S, -1, 3, Eigen::RowMajor>& x,
+                      bool reverse, double ks, double kb, BendingAngle kind) {
+  using lanes::Triple;
+  auto get = [&x](int v) { return Triple<S>{x(v, 0), x(v, 1), x(v, 2)}; };
+  auto add = [&x](int v, const Triple<S>& d) {
+    x(v, 0) += d.x;
+    x(v, 1) += d.y;
+    x(v, 2) += d.z;
+  };
+  auto w = [&c](int v) { return static_cast<S>(c.inverse_mass(v)); };
   const std::vector<int>& so = b.stretch_order();
   for (size_t k = 0; k < so.size(); ++k) {
     const int i = so[reverse ? so.size() - 1 - k : k];
     const int a = c.constraints.stretch(i, 0), d = c.constraints.stretch(i, 1);
-    Vec3 ca, cd;
-    project_stretch(P(a), w(a), P(d), w(d), c.constraints.stretch_rest(i), ks, ca, cd);
-    P(a) += ca;
-    P(d) += cd;
+    S share_a, share_d;
+    kernels::stretch_shares(w(a), w(d), share_a, share_d);
+    Triple<S> ca, cd;
+    kernels::project_stretch(get(a), share_a, get(d), share_d, static_cast<S>(c.constraints.stretch_rest(i)), ks, ca,
+                             cd);
+    add(a, ca);
+    add(d, cd);
   }
   const std::vector<int>& bo = b.bending_order();
   for (size_t k = 0; k < bo.size(); ++k) {
     const int i = bo[reverse ? bo.size() - 1 - k : k];
     int q[4];
     for (int j = 0; j < 4; ++j) q[j] = c.constraints.bending(i, j);
-    Vec3 corr[4];
-    project_bending(P(q[0]), w(q[0]), P(q[1]), w(q[1]), P(q[2]), w(q[2]), P(q[3]), w(q[3]),
-                    c.constraints.bending_rest(i), kb, corr, kind);
-    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
+    const Triple<S> p[4] = {get(q[0]), get(q[1]), get(q[2]), get(q[3])};
+    const S wq[4] = {w(q[0]), w(q[1]), w(q[2]), w(q[3])};
+    Triple<S> corr[4];
+    kernels::project_bending(p, wq, static_cast<S>(c.constraints.bending_rest(i)), kb, kind, corr);
+    for (int j = 0; j < 4; ++j) add(q[j], corr[j]);
   }
 }
 
@@ -107,35 +148,178 @@ void expect_every_movable_constraint_once(const Rows& vertices, const std::vecto
   }
 }
 
+/// Every instruction set this CPU has.
+std::vector<InstructionSet> instruction_sets() {
+  std::vector<InstructionSet> sets;
+  for (InstructionSet isa : {InstructionSet::Sse2, InstructionSet::Avx, InstructionSet::Avx512})
+    if (cpu_supports(isa)) sets.push_back(isa);
+  return sets;
+}
+
 TEST(ConstraintBatches, EveryMovableConstraintIsProjectedOnce) {
   const DisturbedCube cube;
-  const ConstraintBatches batches(cube.constraints, cube.inverse_mass);
-  expect_every_movable_constraint_once(cube.constraints.stretch, batches.stretch_order(), cube.inverse_mass);
-  expect_every_movable_constraint_once(cube.constraints.bending, batches.bending_order(), cube.inverse_mass);
-  // Batches are mostly full: the colouring leaves few partial ones.
-  const size_t full = (batches.stretch_order().size() + ConstraintBatches::kWidth - 1) / ConstraintBatches::kWidth;
-  EXPECT_LT(batches.stretch_batch_count(), full + full / 10);
-  RecordProperty("stretch_batches", std::to_string(batches.stretch_batch_count()));
-  RecordProperty("bending_batches", std::to_string(batches.bending_batch_count()));
+  for (int width : {4, 8, 16}) {
+    const ConstraintBatches batches(cube.constraints, cube.inverse_mass, width);
+    expect_every_movable_constraint_once(cube.constraints.stretch, batches.stretch_order(), cube.inverse_mass);
+    expect_every_movable_constraint_once(cube.constraints.bending, batches.bending_order(), cube.inverse_mass);
+    // Batches are mostly full: the colouring leaves few partial ones.
+    const size_t full = (batches.stretch_order().size() + width - 1) / width;
+    EXPECT_LT(batches.stretch_batch_count(), full + full / 5) << width << " lanes";
+    RecordProperty("stretch_batches_" + std::to_string(width), std::to_string(batches.stretch_batch_count()));
+    RecordProperty("bending_batches_" + std::to_string(width), std::to_string(batches.bending_batch_count()));
+  }
+}
+
+/// The batched sweep against one-at-a-time projection, bitwise, on every
+/// instruction set this CPU has, in both precisions.
+template <class S>
+void expect_sweep_equals_one_at_a_time(Precision precision) {
+  const DisturbedCube cube;
+  using Rows = Eigen::Matrix<S, -1, 3, Eigen::RowMajor>;
+  for (BendingAngle kind : {BendingAngle::Unsigned, BendingAngle::Signed})
+    for (InstructionSet isa : instruction_sets()) {
+      const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, precision), precision);
+      Rows sequential = cube.positions.cast<S>();
+      Eigen::Matrix<S, -1, 4, Eigen::RowMajor> batched =
+          Eigen::Matrix<S, -1, 4, Eigen::RowMajor>::Zero(sequential.rows(), ConstraintBatches::kPositionStride);
+      batched.template leftCols<3>() = sequential;
+      for (int sweep = 0; sweep < 4; ++sweep) {  // forward, reverse, forward, reverse
+        batches.sweep(batched.data(), sweep % 2 == 1, 0.9, 0.7, kind, isa);
+        sequential_sweep<S>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, kind);
+      }
+      EXPECT_GT((batched.template leftCols<3>().template cast<double>() - cube.positions).cwiseAbs().maxCoeff(), 1e-4);
+      EXPECT_EQ((batched.template leftCols<3>() - sequential).cwiseAbs().maxCoeff(), S(0))
+          << name(isa) << " " << name(precision);
+    }
 }
 
 TEST(ConstraintBatches, SweepEqualsOneAtATimeProjectionBitwiseOnEveryInstructionSet) {
+  expect_sweep_equals_one_at_a_time<double>(Precision::Double);
+  expect_sweep_equals_one_at_a_time<float>(Precision::Single);
+}
+
+TEST(ConstraintBatches, EveryInstructionSetGivesTheSameNumbersInDoublePrecision) {
   const DisturbedCube cube;
-  const ConstraintBatches batches(cube.constraints, cube.inverse_mass);
-  std::vector<InstructionSet> sets = {InstructionSet::Sse2};
-  if (best_instruction_set() == InstructionSet::Avx) sets.push_back(InstructionSet::Avx);
-  for (BendingAngle kind : {BendingAngle::Unsigned, BendingAngle::Signed})
-    for (InstructionSet isa : sets) {
-      Points sequential = cube.positions;
-      PaddedPoints batched = PaddedPoints::Zero(sequential.rows(), ConstraintBatches::kPositionStride);
-      batched.leftCols<3>() = cube.positions;
-      for (int sweep = 0; sweep < 4; ++sweep) {  // forward, reverse, forward, reverse
-        batches.sweep(batched.data(), sweep % 2 == 1, 0.9, 0.7, kind, isa);
-        sequential_sweep(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, kind);
-      }
-      EXPECT_GT((batched.leftCols<3>() - cube.positions).cwiseAbs().maxCoeff(), 1e-4);  // it did move
-      EXPECT_EQ((batched.leftCols<3>() - sequential).cwiseAbs().maxCoeff(), 0.0) << name(isa);
+  PaddedPoints first;
+  for (InstructionSet isa : instruction_sets()) {
+    const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double));
+    PaddedPoints x = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+    x.leftCols<3>() = cube.positions;
+    batches.project(x.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+    if (first.size() == 0)
+      first = x;
+    else
+      EXPECT_EQ((x - first).cwiseAbs().maxCoeff(), 0.0) << name(isa);
+  }
+}
+
+TEST(ConstraintBatches, SweepOnTheWrongInstructionSetOrPrecisionIsAnError) {
+  const DisturbedCube cube;
+  const ConstraintBatches four(cube.constraints, cube.inverse_mass, 4);
+  PaddedPoints x = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+  Eigen::Matrix<float, -1, 4, Eigen::RowMajor> xf = x.cast<float>();
+  EXPECT_THROW(four.sweep(xf.data(), false, 1, 1, BendingAngle::Unsigned, InstructionSet::Sse2),
+               std::invalid_argument);  // double batches, float positions
+  if (cpu_supports(InstructionSet::Avx512)) {
+    EXPECT_THROW(four.sweep(x.data(), false, 1, 1, BendingAngle::Unsigned, InstructionSet::Avx512),
+                 std::invalid_argument);  // 4 lanes packed, 8 swept
+  }
+  EXPECT_THROW(ConstraintBatches(cube.constraints, cube.inverse_mass, 6), std::invalid_argument);
+}
+
+/// Within each colour (batches [begin[c], begin[c + 1])), no vertex is used by two
+/// constraints: what lets threads split a colour. Returns the colour count.
+template <int N, class Rows>
+size_t expect_colours_independent(const ConstraintBatches::Layout& layout, int width, const std::vector<int>& order,
+                                  const Rows& vertices, Eigen::Index vertex_count) {
+  const std::vector<size_t>& begin = layout.colours.begin;
+  EXPECT_EQ(begin.front(), 0u);
+  EXPECT_EQ(begin.back(), layout.batch_count());
+  size_t next = 0;  // position in `order` of the current batch's lane 0
+  const size_t W = static_cast<size_t>(width);
+  for (size_t c = 0; c + 1 < begin.size(); ++c) {
+    std::vector<char> used(static_cast<size_t>(vertex_count), 0);
+    for (size_t b = begin[c]; b < begin[c + 1]; ++b) {
+      EXPECT_GT(layout.count[b], 0);
+      for (size_t l = 0; l < static_cast<size_t>(layout.count[b]); ++l, ++next)
+        for (size_t j = 0; j < N; ++j) {
+          const int v = vertices(order[next], static_cast<Eigen::Index>(j));
+          EXPECT_EQ(layout.q[(b * N + j) * W + l], v);
+          EXPECT_FALSE(used[static_cast<size_t>(v)]) << "colour " << c << " uses vertex " << v << " twice";
+          used[static_cast<size_t>(v)] = 1;
+        }
     }
+  }
+  EXPECT_EQ(next, order.size());
+  return begin.size() - 1;
+}
+
+TEST(ConstraintBatches, BatchesNeverStraddleColoursAndAColourSharesNoVertex) {
+  const DisturbedCube cube;
+  const Eigen::Index n = cube.surface.V.rows();
+  for (int width : {4, 8, 16}) {
+    const ConstraintBatches batches(cube.constraints, cube.inverse_mass, width);
+    const size_t stretch_colours = expect_colours_independent<2>(batches.stretch_layout(), width,
+                                                                 batches.stretch_order(), cube.constraints.stretch, n);
+    const size_t bending_colours = expect_colours_independent<4>(batches.bending_layout(), width,
+                                                                 batches.bending_order(), cube.constraints.bending, n);
+    RecordProperty("stretch_colours", std::to_string(stretch_colours));
+    RecordProperty("bending_colours", std::to_string(bending_colours));
+  }
+}
+
+TEST(ConstraintBatches, ProjectionIsBitwiseTheSameOnAnyNumberOfThreads) {
+  const DisturbedCube cube;
+  PaddedPoints start = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+  start.leftCols<3>() = cube.positions;
+  for (InstructionSet isa : instruction_sets()) {
+    const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double));
+    PaddedPoints one = start;
+    batches.project(one.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+    // The same as six single sweeps, alternating direction.
+    PaddedPoints swept = start;
+    for (int it = 0; it < 6; ++it) batches.sweep(swept.data(), it % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned, isa);
+    EXPECT_EQ((one - swept).cwiseAbs().maxCoeff(), 0.0);
+    for (int threads : {1, 2, 3, 5}) {
+      ThreadTeam team(threads);
+      PaddedPoints many = start;
+      for (int repeat = 0; repeat < 3; ++repeat) {  // the team is reused
+        many = start;
+        batches.project(many.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+      }
+      EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << name(isa);
+    }
+  }
+}
+
+TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
+  const DisturbedCube cube;
+  const int load_vertex = nearest_vertex(cube.surface.V, Vec3(0, 0, 0.1)).nodes(0);
+  for (Precision precision : {Precision::Double, Precision::Single}) {
+    Points reference;
+    for (int threads : {1, 2, 4}) {
+      Settings s;
+      s.threads = threads;
+      s.precision = precision;
+      Solver solver(cube.surface, cube.inverse_mass, s);
+      // Pins as in the hybrid: a few vertices moved each frame.
+      const std::vector<int> pinned = {load_vertex + 1, load_vertex + 2};
+      Points pinned_positions(2, 3);
+      for (int f = 0; f < 30; ++f) {
+        for (int k = 0; k < 2; ++k)
+          pinned_positions.row(k) =
+              cube.surface.V.row(pinned[static_cast<size_t>(k)]) + Eigen::RowVector3d(0, 0, 1e-4 * f);
+        solver.step(load_vertex, Vec3(0, 0, 1), pinned, pinned_positions);
+      }
+      if (threads == 1)
+        reference = solver.positions();
+      else
+        EXPECT_EQ((solver.positions() - reference).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+      EXPECT_EQ(solver.details()["threads"], threads);
+      EXPECT_EQ(solver.details()["precision"], name(precision));
+    }
+    EXPECT_GT((reference - cube.surface.V).cwiseAbs().maxCoeff(), 1e-4);
+  }
 }
 
 TEST(ConstraintBatches, ConstraintOnAVertexWithoutInverseMassIsAnError) {
