@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "mirror_symmetric_volume.h"
 #include "self_intersections.h"
 #include "strict_json.h"
+#include "surface_subdivision.h"
 #include "tetgen_driver.h"
 #include "text_parsing.h"
 
@@ -50,6 +52,9 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
                            : ControlPointRule::NearestToCoarseSurfaceNodes;
     r.build_fine_volume = o.boolean("build_fine_volume", true);
   }
+  r.refine_levels = o.integer("refine_levels", 0, 0, 6);
+  if (r.refine_levels > 0 && r.symmetric_fine_volume)
+    o.fail("refine_levels", "is not supported with symmetric_fine_volume (its cut-plane grids follow nx, ny, nz)");
   StrictObject fine = o.object("fine_tetgen", true);
   r.build.fine_tetgen.radius_edge_ratio = fine.number("radius_edge_ratio", 1.414, 0, 100);
   r.build.fine_tetgen.max_volume = fine.number("max_volume", 0, 0, 1e9);
@@ -63,11 +68,22 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
   return r;
 }
 
+namespace {
+/// The recipe's refinement: the surface split refine_levels times, the fine volume
+/// bound scaled by 8^-refine_levels (every tet split in eight, roughly).
+HybridBuildOptions refine(const MeshRecipe& r, SurfaceMesh& s) {
+  s = subdivide_surface(s, r.refine_levels);
+  HybridBuildOptions build = r.build;
+  build.fine_tetgen.max_volume *= std::ldexp(1.0, -3 * r.refine_levels);
+  return build;
+}
+}  // namespace
+
 HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
   if (r.kind == MeshRecipe::Kind::Cube) {
     SurfaceMesh s = make_cube_surface(r.cube);
     report.flipped_triangles = check_and_orient_surface("cube", s).flipped_triangles;
-    HybridBuildOptions build = r.build;
+    HybridBuildOptions build = refine(r, s);
     if (r.symmetric_fine_volume)
       build.fine_volume_builder = [&r](const SurfaceMesh& surface) {
         return tetrahedralize_symmetric_cube(surface, r.cube, r.build.fine_tetgen, "cube");
@@ -87,9 +103,10 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
     report.repaired = true;
     check_and_orient_surface(r.surface_file, s);
   }
-  if (r.coarse_file.empty()) return build_hybrid_from_surface(s, r.build, r.surface_file);
+  const HybridBuildOptions build = refine(r, s);
+  if (r.coarse_file.empty()) return build_hybrid_from_surface(s, build, r.surface_file);
   const TetMesh coarse = read_volume(r.coarse_file, r.unit_scale);
-  return build_hybrid_with_coarse(s, coarse, r.control_points, r.build_fine_volume ? &r.build.fine_tetgen : nullptr,
+  return build_hybrid_with_coarse(s, coarse, r.control_points, r.build_fine_volume ? &build.fine_tetgen : nullptr,
                                   r.surface_file);
 }
 
@@ -192,6 +209,7 @@ std::string mesh_content_hash(const MeshRecipe& r) {
       << '|' << r.unit_scale << '|' << r.repair_self_intersections << '|' << static_cast<int>(r.control_points) << '|'
       << r.build_fine_volume << '|' << r.build.fine_tetgen.radius_edge_ratio << ',' << r.build.fine_tetgen.max_volume
       << '|' << r.build.target_coarse_nodes << ',' << r.build.coarse_spacing << ',' << r.build.feature_angle_deg << '|';
+  if (r.refine_levels > 0) key << "refine=" << r.refine_levels << '|';  // unrefined recipes keep their old hash
   uint64_t h = fnv1a(key.str());
   for (const std::string& f : {r.surface_file, r.coarse_file})
     if (!f.empty()) h = fnv1a(read_file(f), fnv1a("|file|", h));  // contents, not names

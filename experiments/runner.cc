@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -186,6 +187,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
   }
   if (!info.dynamic) out.steady_frame = std::max(0, s.ramp_frames - 1);
+  const nlohmann::json processes = opt.process_statistics ? opt.process_statistics() : nlohmann::json();
+  if (!opt.write_outputs) {
+    out.ok = true;
+    return out;
+  }
 
   // ---- output, staged then moved into place ----
   const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
@@ -211,6 +217,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   j["observed_vertices"] = s.observed;
   j["mesh"] = mesh_summary;
   j["build"] = build_and_machine_info();
+  j["model_statistics"] = model->statistics();
   write_file_atomically((staging / "run.json").string(), j.dump(2) + "\n");
 
   nlohmann::json t;
@@ -223,6 +230,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
   t["build"] = j["build"];
+  if (!processes.is_null()) t["processes"] = processes;
   write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");
 
   write_file_atomically((staging / "top_surface.csv").string(), csv_of(rest, u, observed_vertices(s, rest)));
@@ -256,6 +264,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   std::map<std::string, BuiltMesh> meshes;
   std::vector<CaseOutcome> outcomes;
   for (const Scenario& s : e.scenarios) {
+    if (!opt.only_scenario.empty() && opt.only_scenario != s.name) continue;
     // The same recipe (same JSON, same folder) builds the same mesh: build it once.
     const std::string key = fs::path(s.file).parent_path().string() + "|" + s.source.at("mesh").dump();
     std::shared_ptr<HybridMesh> mesh;
@@ -266,7 +275,17 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         progress.line(s.name + ": preparing meshes");
         MeshReport report;
         bool cached = false;
-        mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+        if (opt.barrier) {  // the writing process first, through the cache; then the others read it
+          std::exception_ptr failed;
+          if (opt.write_outputs) try {
+              mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+            } catch (...) {
+              failed = std::current_exception();
+            }
+          opt.barrier();
+          if (failed) std::rethrow_exception(failed);
+        }
+        if (!mesh) mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
         if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
         summary = report.to_json(*mesh);
         it = meshes.emplace(key, BuiltMesh{mesh, report, summary}).first;
@@ -278,7 +297,8 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       mesh = it->second.mesh;
       summary = it->second.summary;
       // The meshes as built, for ParaView and figure 1.
-      write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
+      if (opt.write_outputs && opt.write_meshes)
+        write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
     } catch (const std::exception& ex) {
       for (const ModelRun& run : s.models) outcomes.push_back({s.name, run.case_name, false, ex.what()});
       progress.line(s.name + ": FAILED building meshes: " + ex.what());

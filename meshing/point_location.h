@@ -24,6 +24,10 @@ Eigen::Vector4d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
 /// weight is >= -tolerance.
 TetEmbedding locate_point(const TetMesh& mesh, const Eigen::Vector3d& p, double tolerance = 1e-9);
 
+/// The point of triangle (a, b, c) nearest p.
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
 /// Distance from p to triangle (a, b, c).
 double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                const Eigen::Vector3d& c);

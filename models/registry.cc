@@ -28,6 +28,14 @@ const ModelInfo& find_model(const std::string& name) {
   throw std::invalid_argument("unknown model '" + name + "' (registered: " + known.str() + ")");
 }
 
+void require_point_load(const PointLoad& load, const char* model) {
+  if (load.disc_radius == 0) return;
+  std::ostringstream msg;
+  msg << model << ": load.disc_radius " << load.disc_radius
+      << " asks for a disc load, which this model does not support; use disc_radius 0 (the paper's point load)";
+  throw std::invalid_argument(msg.str());
+}
+
 std::vector<char> SupportBox::select(const Points& V) const {
   std::vector<char> out(static_cast<size_t>(V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) out[static_cast<size_t>(i)] = contains(V.row(i).transpose());

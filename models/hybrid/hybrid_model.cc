@@ -34,6 +34,7 @@ class HybridModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "hybrid");
     if (load_vertex_ < 0 || load.point != load_point_) {
       stencil_ = coarse_->locate_load(load.point);
       load_vertex_ = pbd::nearest_vertex(solver_->rest_positions(), load.point);

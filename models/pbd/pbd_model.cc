@@ -15,6 +15,7 @@ class PbdModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "pbd");
     if (load_vertex_ < 0 || load.point != load_point_) {
       load_vertex_ = pbd::nearest_vertex(solver_->rest_positions(), load.point);  // DESIGN: nearest surface vertex
       load_point_ = load.point;
