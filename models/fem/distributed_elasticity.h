@@ -44,6 +44,8 @@ struct DistributedStats {
   int load_increments = 0;        ///< neo-Hookean: accepted increments
   int increment_halvings = 0;     ///< neo-Hookean: increments cut after a failed Newton
   double condition_estimate = 0;  ///< of the preconditioned system, from CG's Lanczos (last linear solve)
+  // Wall-clock seconds of the phases (rank 0's): setup, then the last solve.
+  double mesh_s = 0, dofs_s = 0, assembly_s = 0, preconditioner_s = 0, solve_s = 0;
 };
 
 class DistributedElasticity {

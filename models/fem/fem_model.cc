@@ -85,6 +85,11 @@ class FemModel : public Model {
     j["load_increments_last_step"] = s.load_increments;
     j["increment_halvings_last_step"] = s.increment_halvings;
     j["load_points"] = load_points_.size();
+    j["seconds"] = {{"mesh", s.mesh_s},
+                    {"dofs", s.dofs_s},
+                    {"assembly", s.assembly_s},
+                    {"preconditioner", s.preconditioner_s},
+                    {"solve_last_step", s.solve_s}};
     return j;
   }
 
