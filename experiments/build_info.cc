@@ -32,7 +32,7 @@ nlohmann::json build_and_machine_info() {
       break;
     }
   j["hardware_threads"] = std::thread::hardware_concurrency();
-  j["blas_threads"] = 1;  // tissuebench's main pins OpenBLAS and OpenMP to one thread
+  j["blas_threads"] = 1;                             // tissuebench's main pins OpenBLAS and OpenMP to one thread
   j["peak_memory_mib"] = process_peak_memory_mib();  // of the whole process so far
   char host[256] = {};
   gethostname(host, sizeof host - 1);

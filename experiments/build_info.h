@@ -7,4 +7,4 @@ namespace tb {
 nlohmann::json build_and_machine_info();
 /// The process's peak resident memory so far (MiB).
 double process_peak_memory_mib();
-}
+}  // namespace tb

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "mirror_symmetric_volume.h"
 #include "self_intersections.h"
 #include "strict_json.h"
+#include "surface_subdivision.h"
 #include "tetgen_driver.h"
 #include "text_parsing.h"
 
@@ -53,6 +55,7 @@ nlohmann::json MeshRecipe::to_json() const {
     j["control_points"] = control_point_rule_name(control_points);
     j["build_fine_volume"] = build_fine_volume;
   }
+  j["refine_levels"] = refine_levels;
   j["fine_tetgen"] = {{"radius_edge_ratio", build.fine_tetgen.radius_edge_ratio},
                       {"max_volume", build.fine_tetgen.max_volume}};
   j["coarse_selection"] = {{"target_nodes", build.target_coarse_nodes},
@@ -100,6 +103,9 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
                            : ControlPointRule::NearestToCoarseSurfaceNodes;
     r.build_fine_volume = o.boolean("build_fine_volume", r.build_fine_volume);
   }
+  r.refine_levels = o.integer("refine_levels", r.refine_levels, 0, 6);
+  if (r.refine_levels > 0 && r.symmetric_fine_volume)
+    o.fail("refine_levels", "is not supported with symmetric_fine_volume (its cut-plane grids follow nx, ny, nz)");
   StrictObject fine = o.object("fine_tetgen", true);
   r.build.fine_tetgen.radius_edge_ratio =
       fine.number("radius_edge_ratio", r.build.fine_tetgen.radius_edge_ratio, 0, 100);
@@ -149,6 +155,14 @@ void check_unit_scale(const SurfaceMesh& s, const std::string& source, double un
   std::cerr << "tissuebench: warning: " << w.str() << "\n";
 }
 
+/// The recipe's refinement: the surface split refine_levels times, the fine volume
+/// bound scaled by 8^-refine_levels (every tet split in eight, roughly).
+HybridBuildOptions refine(const MeshRecipe& r, SurfaceMesh& s) {
+  s = subdivide_surface(s, r.refine_levels);
+  HybridBuildOptions build = r.build;
+  build.fine_tetgen.max_volume *= std::ldexp(1.0, -3 * r.refine_levels);
+  return build;
+}
 }  // namespace
 
 HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
@@ -157,7 +171,7 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
     SurfaceMesh s = make_cube_surface(r.cube);
     report.flipped_triangles = check_and_orient_surface("cube", s).flipped_triangles;
     check_unit_scale(s, "cube", 1.0, report);
-    HybridBuildOptions build = r.build;
+    HybridBuildOptions build = refine(r, s);
     if (r.symmetric_fine_volume)
       build.fine_volume_builder = [&r](const SurfaceMesh& surface) {
         return tetrahedralize_symmetric_cube(surface, r.cube, r.build.fine_tetgen, "cube");
@@ -171,7 +185,7 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
     check_unit_scale(s, source, 1.0, report);
     if (const int n = count_self_intersections(s))
       throw MeshError(source, std::to_string(n) + " pairs of self-intersecting triangles (a generator bug)");
-    return build_hybrid_from_surface(s, r.build, source);
+    return build_hybrid_from_surface(s, refine(r, s), source);
   }
   SurfaceMesh s = read_surface(r.surface_file, r.unit_scale);
   report.flipped_triangles = check_and_orient_surface(r.surface_file, s).flipped_triangles;
@@ -187,9 +201,10 @@ HybridMesh build_mesh(const MeshRecipe& r, MeshReport& report) {
     report.repaired = true;
     check_and_orient_surface(r.surface_file, s);
   }
-  if (r.coarse_file.empty()) return build_hybrid_from_surface(s, r.build, r.surface_file);
+  const HybridBuildOptions build = refine(r, s);
+  if (r.coarse_file.empty()) return build_hybrid_from_surface(s, build, r.surface_file);
   const TetMesh coarse = read_volume(r.coarse_file, r.unit_scale);
-  return build_hybrid_with_coarse(s, coarse, r.control_points, r.build_fine_volume ? &r.build.fine_tetgen : nullptr,
+  return build_hybrid_with_coarse(s, coarse, r.control_points, r.build_fine_volume ? &build.fine_tetgen : nullptr,
                                   r.surface_file);
 }
 
@@ -259,7 +274,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-3";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-4";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -152,18 +153,21 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   model->setup(problem);
   const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
-  // Outputs are staged in a temporary folder and moved into place at the end.
+  // Outputs are staged in a temporary folder and moved into place at the end (by
+  // the writing process only: under mpirun, rank 0).
   const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
   const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
-  remove_stale_staging(dir);
-  fs::remove_all(staging);
-  fs::create_directories(staging);
+  if (opt.write_outputs) {
+    remove_stale_staging(dir);
+    fs::remove_all(staging);
+    fs::create_directories(staging);
+  }
 
   const Points& rest = mesh.fine_surface.V;
   const double bound = s.divergence_factor * bounding_box_diagonal(rest);
   // Optional ParaView time series of the surface (scenario "output": "series_every").
   std::ostringstream series;
-  const bool write_series = info.dynamic && s.series_every > 0;
+  const bool write_series = opt.write_outputs && info.dynamic && s.series_every > 0;
   if (write_series) fs::create_directories(staging / "series");
   auto snapshot = [&](int frame, const Displacements& u) {
     char name[40];
@@ -218,6 +222,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
   }
   if (!info.dynamic) out.steady_frame = std::max(0, s.ramp_frames - 1);
+  const nlohmann::json processes = opt.process_statistics ? opt.process_statistics() : nlohmann::json();
+  if (!opt.write_outputs) {
+    out.ok = true;
+    return out;
+  }
 
   // ---- output, staged then moved into place ----
   const Displacements& u = model->surface_displacement();
@@ -263,6 +272,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
   t["build"] = j["build"];
+  if (!processes.is_null()) t["processes"] = processes;
   write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");
 
   write_file_atomically((staging / "top_surface.csv").string(), csv_of(rest, u, observed_vertices(s, rest)));
@@ -299,6 +309,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   fs::create_directories(fs::path(opt.out_dir) / e.name);
   write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
   for (const Scenario& s : e.scenarios) {
+    if (!opt.only_scenario.empty() && opt.only_scenario != s.name) continue;
     // The same resolved recipe (file paths absolute) builds the same mesh: build it once.
     const std::string key = s.mesh.to_json().dump();
     std::shared_ptr<HybridMesh> mesh;
@@ -310,7 +321,17 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         MeshReport report;
         bool cached = false;
         const auto build_start = Clock::now();
-        mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+        if (opt.barrier) {  // the writing process first, through the cache; then the others read it
+          std::exception_ptr failed;
+          if (opt.write_outputs) try {
+              mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
+            } catch (...) {
+              failed = std::current_exception();
+            }
+          opt.barrier();
+          if (failed) std::rethrow_exception(failed);
+        }
+        if (!mesh) mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
         const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
         if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
         summary = report.to_json(*mesh);
@@ -328,7 +349,8 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       mesh = it->second.mesh;
       summary = it->second.summary;
       // The meshes as built, for ParaView and figure 1.
-      write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
+      if (opt.write_outputs && opt.write_meshes)
+        write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
     } catch (const std::exception& ex) {
       for (const ModelRun& run : s.models) {
         try {

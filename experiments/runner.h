@@ -2,6 +2,8 @@
 // set the model up, step it frame by frame, and write the raw results.
 #pragma once
 
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -12,8 +14,19 @@ namespace tb {
 struct RunOptions {
   std::string out_dir = "results";  ///< results/<experiment>/<scenario>/<case>/
   std::string only_case;            ///< run only this case (or model) name; empty: all
+  std::string only_scenario;        ///< run only the scenario of this name; empty: all
+  bool write_meshes = true;         ///< the built meshes into <scenario>/mesh/ (large for refined ones)
   bool progress = true;             ///< progress lines on stderr
   std::string mesh_cache_dir;       ///< built meshes cached here by content hash; empty: none
+  // Several processes (mpirun, issue 13): every one runs every case (the
+  // distributed FEM together, the other models redundantly); only the one with
+  // write_outputs writes files. With `barrier` set, that process builds each mesh
+  // (through the cache) before the others, who read it from the cache.
+  bool write_outputs = true;
+  std::function<void()> barrier;
+  /// If set, called by every process after a case's frames (it may be
+  /// collective); its result goes into timings.json as "processes".
+  std::function<nlohmann::json()> process_statistics;
 };
 
 struct CaseOutcome {

@@ -138,6 +138,7 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   }
   s.load.force = l.vec3("force", std::nullopt);
   s.ramp_frames = l.integer("ramp_frames", s.ramp_frames, 0, 1000000);
+  s.load.disc_radius = l.number("disc_radius", s.load.disc_radius, 0, 1e9);  // m; 0: the paper's point load
   l.finish();
 
   StrictObject f = o.object("frames", true);

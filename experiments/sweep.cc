@@ -67,7 +67,6 @@ void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& valu
   }
 }
 
-
 std::vector<Factor> parse_factors(StrictObject& o) {
   const nlohmann::json& list = o.raw("factors");
   if (!list.is_array() || list.empty()) o.fail("factors", "must be a non-empty array");

@@ -1,6 +1,9 @@
 // The tissuebench command line: `run`, `mesh`, `models`. Any failure prints one
-// line naming the file and the problem and exits non-zero.
+// line naming the file and the problem and exits non-zero. Under `mpirun -np N`
+// every rank runs every case (the distributed FEM together, other models
+// redundantly) and rank 0 alone prints and writes.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -8,6 +11,7 @@
 #include "elastic_body.h"
 #include "mesh_recipe.h"
 #include "model.h"
+#include "mpi_session.h"
 #include "runner.h"
 #include "strict_json.h"
 
@@ -34,6 +38,8 @@ int command_models() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tb::MpiSession mpi(argc, argv);  // once per program; a singleton without mpirun
+  const bool root = tb::MpiSession::rank() == 0;
   CLI::App app{"tissuebench: soft-tissue deformation models (fine FEM, PBD, hybrid) on shared scenarios"};
   app.require_subcommand(1);
 
@@ -43,6 +49,10 @@ int main(int argc, char** argv) {
   run->add_option("file", scenario_file, "scenario or experiment JSON")->required();
   run->add_option("--out", out_dir, "results folder (default: results)");
   run->add_option("--model", only, "run only this case or model name");
+  std::string only_scenario;
+  run->add_option("--scenario", only_scenario, "run only the scenario of this name");
+  bool no_mesh_output = false;
+  run->add_flag("--no-mesh-output", no_mesh_output, "do not write the built meshes beside the results");
   run->add_flag("--quiet", quiet, "no progress on stderr");
   std::string mesh_cache = tb::default_mesh_cache_dir();
   bool no_cache = false;
@@ -78,6 +88,8 @@ int main(int argc, char** argv) {
       mesh->add_option("--max-volume", max_volume, "fine TetGen volume bound, m^3 (0: none; default: the recipe's)");
   auto* quality_opt = mesh->add_option("--quality", quality, "fine TetGen radius-edge bound (-q)");
   auto* target_opt = mesh->add_option("--target-coarse-nodes", target, "coarse node count to aim for");
+  int refine_levels = 0;
+  mesh->add_option("--refine-levels", refine_levels, "split the surface's triangles in four this many times");
   mesh->add_option("--out", mesh_out, "output folder")->required();
 
   app.add_subcommand("models", "List the registered models and their parameters");
@@ -86,8 +98,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   tb::use_one_thread();  // every reported time is single-threaded
   try {
-    if (app.got_subcommand("models")) return command_models();
+    if (app.got_subcommand("models")) return root ? command_models() : 0;
     if (app.got_subcommand("build-info")) {
+      if (!root) return 0;
       std::cout << tb::build_and_machine_info().dump(2) << "\n";
       return 0;
     }
@@ -96,19 +109,34 @@ int main(int argc, char** argv) {
       tb::RunOptions opt;
       opt.out_dir = out_dir;
       opt.only_case = only;
-      opt.progress = !quiet;
+      opt.only_scenario = only_scenario;
+      opt.write_meshes = !no_mesh_output;
+      opt.progress = !quiet && root;
       opt.mesh_cache_dir = no_cache ? "" : mesh_cache;
+      opt.write_outputs = root;
+      if (tb::MpiSession::size() > 1) opt.barrier = [] { tb::MpiSession::barrier(); };
+      opt.process_statistics = [] {
+        const std::vector<double> peak = tb::MpiSession::peak_memory_mib();
+        double max = 0, sum = 0;
+        for (double p : peak) max = std::max(max, p), sum += p;
+        return nlohmann::json{{"ranks", peak.size()},
+                              {"peak_rss_mib_per_rank", peak},
+                              {"peak_rss_mib_max", max},
+                              {"peak_rss_mib_sum", sum}};
+      };
       const auto outcomes = tb::run_experiment(e, opt);
       int failed = 0, ran = 0;
       for (const auto& o : outcomes) {
         ++ran;
         if (!o.ok) {
           ++failed;
-          std::cerr << "tissuebench: " << o.scenario << "/" << o.case_name << " failed: " << o.error << "\n";
+          if (root) std::cerr << "tissuebench: " << o.scenario << "/" << o.case_name << " failed: " << o.error << "\n";
         }
       }
+      if (!root) return failed ? 1 : (ran == 0 ? 2 : 0);
       if (ran == 0) {
-        std::cerr << "tissuebench: " << scenario_file << ": no case matches --model " << only << "\n";
+        std::cerr << "tissuebench: " << scenario_file << ": no case matches --model " << only << " --scenario "
+                  << only_scenario << "\n";
         return 2;
       }
       std::cerr << "tissuebench: " << ran - failed << " of " << ran << " cases written under " << out_dir << "/"
@@ -116,6 +144,7 @@ int main(int argc, char** argv) {
       return failed ? 1 : 0;
     }
     if (mesh->parsed()) {
+      if (!root) return 0;  // one writer
       if (!cube && surface.empty() && shape.empty())
         throw std::invalid_argument("mesh: give --surface FILE, --cube or --shape NAME");
       nlohmann::json recipe;
@@ -135,6 +164,7 @@ int main(int argc, char** argv) {
       if (quality_opt->count()) recipe["fine_tetgen"]["radius_edge_ratio"] = quality;
       if (max_volume_opt->count()) recipe["fine_tetgen"]["max_volume"] = max_volume;
       if (target_opt->count()) recipe["coarse_selection"] = {{"target_nodes", target}};
+      recipe["refine_levels"] = refine_levels;
       const tb::MeshRecipe r = tb::parse_mesh_recipe(recipe, ".", "mesh options");
       tb::MeshReport report;
       const tb::HybridMesh h = tb::build_mesh(r, report);
@@ -143,7 +173,7 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const std::exception& e) {
-    std::cerr << "tissuebench: " << e.what() << "\n";
+    if (root) std::cerr << "tissuebench: " << e.what() << "\n";
     return 1;
   }
   return 0;

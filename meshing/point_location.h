@@ -47,6 +47,10 @@ class TetLocator {
   std::vector<int> tets_;
 };
 
+/// The point of triangle (a, b, c) nearest p.
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
 /// Distance from p to triangle (a, b, c).
 double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                const Eigen::Vector3d& c);

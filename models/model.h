@@ -38,10 +38,19 @@ struct SupportBox {
 };
 
 /// A point force: `force` (N) acting at `point` (m) in the rest configuration.
+/// With disc_radius > 0 (m) the same total force is a uniform traction on the disc
+/// of that radius around `point` on the surface (models/fem/surface_load.h); 0 is
+/// the paper's point load. A model without disc loads throws std::invalid_argument
+/// naming load.disc_radius.
 struct PointLoad {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  double disc_radius = 0;
 };
+
+/// For models that take only the paper's point load: throws std::invalid_argument
+/// naming `model` and load.disc_radius unless load.disc_radius is 0.
+void require_point_load(const PointLoad& load, const char* model);
 
 /// Everything a model needs to set itself up. The mesh outlives the model.
 struct Problem {

@@ -4,8 +4,10 @@
 #include <memory>
 #include <tuple>
 
+#include "cube_generator.h"
 #include "mesh_recipe.h"
 #include "scenario.h"
+#include "tetgen_driver.h"
 
 namespace tb::testing {
 
@@ -21,6 +23,16 @@ const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume, 
     m = std::make_unique<HybridMesh>(build_mesh(r, report));
   }
   return *m;
+}
+
+TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume) {
+  SurfaceMesh s = make_cube_surface({1.0, 1.0, nx, ny, nz});
+  s.V.col(0) = (s.V.col(0).array() + 0.5) * lx;  // [0, lx]
+  s.V.col(1) = (s.V.col(1).array() + 0.5) * ly;
+  s.V.col(2) *= lz;
+  TetgenOptions o;
+  o.max_volume = max_volume;
+  return tetrahedralize_surface(s, o, "box");
 }
 
 double mirror_asymmetry(const Points& V, const Eigen::VectorXd& values, int axis, double parity) {

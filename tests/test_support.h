@@ -33,6 +33,10 @@ struct TempFolder {
 const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume = true,
                                 bool symmetric_fine_volume = false);
 
+/// TetGen's mesh of the box [0, lx] x [0, ly] x [0, lz], its surface a structured
+/// nx x ny x nz grid (make_cube_surface), tets at most max_volume.
+TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume);
+
 /// Largest |values(v) - parity values(mirror(v))| over vertices, where mirror(v)
 /// is the vertex nearest v reflected across the plane x_axis = 0 (parity -1 for
 /// the reflected component of a vector field).

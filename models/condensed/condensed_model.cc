@@ -26,6 +26,7 @@ class CondensedModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "condensed");
     const LoadStencil& stencil = stencil_.get(
         load.point, [&](const Eigen::Vector3d& x) { return containing_tet(body_->mesh(), x, "fine volume"); });
     response_->apply(stencil, load.force, u_);

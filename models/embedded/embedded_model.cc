@@ -28,6 +28,7 @@ class EmbeddedModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "embedded");
     const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
       return nearest_tet(coarse_body_->mesh(), x);
     });  // the coarse hull may lie inside a curved surface

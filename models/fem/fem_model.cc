@@ -28,6 +28,7 @@ class FemModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "fem (a disc load needs the model fem_distributed)");
     const LoadStencil& stencil = stencil_.get(
         load.point, [&](const Eigen::Vector3d& x) { return containing_tet(body_->mesh(), x, "fine volume"); });
     const auto start = std::chrono::steady_clock::now();

@@ -12,6 +12,8 @@
 #include <tuple>
 #include <vector>
 
+#include "elasticity_cell.h"
+
 namespace tb {
 namespace {
 
@@ -89,10 +91,7 @@ Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, do
   const MappingFE<3> mapping(p1);
   const QGaussSimplex<3> quadrature(1);  // B is constant on a P1 tet: one point is exact
   FEValues<3> fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
-
-  // Lame parameters of the elasticity matrix D (eq. 9).
-  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  const double mu = E / (2 * (1 + nu));
+  const Lame lame(E, nu);
 
   const unsigned n = fe.n_dofs_per_cell();  // 12
   // FE_SimplexP(1) numbers its shape functions by the cell's vertices.
@@ -100,24 +99,15 @@ Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, do
   for (unsigned i = 0; i < n; ++i) std::tie(component[i], vertex[i]) = fe.system_to_component_index(i);
   BlockPattern K(mesh);
   std::vector<int> node(n);
-  std::vector<Tensor<1, 3>> grad(n);
+  FullMatrix<double> Ke;
+  std::vector<Tensor<1, 3>> grad;
   for (const auto& cell : tria.active_cell_iterators()) {
     fe_values.reinit(cell);
     for (unsigned i = 0; i < n; ++i) node[i] = static_cast<int>(cell->vertex_index(vertex[i]));
-    for (unsigned q = 0; q < quadrature.size(); ++q) {
-      for (unsigned i = 0; i < n; ++i) grad[i] = fe_values.shape_grad(i, q);
-      const double JxW = fe_values.JxW(q);
-      for (unsigned i = 0; i < n; ++i) {
-        const unsigned ci = component[i];
-        for (unsigned j = 0; j < n; ++j) {
-          const unsigned cj = component[j];
-          // (B^T D B)_ij for isotropic D, as in deal.II step-8.
-          double k = grad[i][ci] * grad[j][cj] * lambda + grad[i][cj] * grad[j][ci] * mu;
-          if (ci == cj) k += grad[i] * grad[j] * mu;
-          K.add(node[i], static_cast<int>(ci), node[j], static_cast<int>(cj), k * JxW);
-        }
-      }
-    }
+    linear_elastic_cell_matrix(fe_values, component, lame, Ke, grad);  // eq. (9), shared with the distributed FEM
+    for (unsigned i = 0; i < n; ++i)
+      for (unsigned j = 0; j < n; ++j)
+        K.add(node[i], static_cast<int>(component[i]), node[j], static_cast<int>(component[j]), Ke(i, j));
   }
   return K.matrix();
 }

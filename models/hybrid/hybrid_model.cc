@@ -61,6 +61,7 @@ class HybridModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "hybrid");
     const int load_vertex =
         surface_load_
             .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })

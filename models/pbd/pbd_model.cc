@@ -19,6 +19,7 @@ class PbdModel : public Model {
   }
 
   void step(const PointLoad& load) override {
+    require_point_load(load, "pbd");
     // DESIGN: the force acts on the nearest surface vertex (eq. 31).
     const int load_vertex =
         load_vertex_

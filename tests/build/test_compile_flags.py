@@ -7,6 +7,7 @@ Run by CTest with the build folder as argument.
 """
 import json
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -16,7 +17,16 @@ BUILD = os.environ.get("TB_BUILD_DIR", "build")
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 # Flags that only deal.II's configuration brings (DEAL_II_CXX_FLAGS and definitions).
 DEAL_II_ONLY = ["-funroll-all-loops", "-D_FORTIFY_SOURCE=2", "-DBOOST_NO_AUTO_PTR", "-fopenmp", "-pedantic"]
-DEAL_II_UNITS = ["models/fem/stiffness_assembly.cc"]
+
+
+def deal_ii_units():
+    """The deal.II translation units, as models/CMakeLists.txt lists them (TB_DEAL_II_SOURCES)."""
+    with open(os.path.join(ROOT, "models", "CMakeLists.txt")) as f:
+        listed = re.search(r"set\(TB_DEAL_II_SOURCES([^)]*)\)", f.read()).group(1).split()
+    return ["models/" + u for u in listed]
+
+
+DEAL_II_UNITS = deal_ii_units()
 
 
 def code_generation_flags(args):

@@ -36,10 +36,13 @@ TEST_P(AllocationFreeFrame, StepAllocatesNothingAfterTheFirstFrame) {
   EXPECT_EQ(count, 0) << GetParam().model << " " << GetParam().parameters.dump();
 }
 
-/// Every registered model with its defaults, and the non-default solvers.
+/// Every registered model with its defaults, and the non-default solvers; not
+/// fem_distributed, a reference solve on MPI (its Trilinos vectors and Newton
+/// state are allocated per solve), not a real-time model.
 std::vector<Case> every_model() {
   std::vector<Case> cases;
-  for (const ModelInfo& m : registered_models()) cases.push_back({m.name, nlohmann::json::object()});
+  for (const ModelInfo& m : registered_models())
+    if (m.name != "fem_distributed") cases.push_back({m.name, nlohmann::json::object()});
   cases.push_back({"fem", {{"solver", "iterative"}}});
   cases.push_back({"hybrid", {{"coarse_solver", "iterative"}}});
   cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}});

@@ -20,15 +20,7 @@
 namespace tb {
 namespace {
 
-TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume) {
-  SurfaceMesh s = make_cube_surface({1.0, 1.0, nx, ny, nz});
-  s.V.col(0) = (s.V.col(0).array() + 0.5) * lx;  // [0, lx]
-  s.V.col(1) = (s.V.col(1).array() + 0.5) * ly;
-  s.V.col(2) *= lz;
-  TetgenOptions o;
-  o.max_volume = max_volume;
-  return tetrahedralize_surface(s, o, "box");
-}
+using testing::box_mesh;
 
 /// Solves K u = f with u prescribed on `fixed` dofs (values in u), others free.
 Eigen::VectorXd solve_with_dirichlet(const Eigen::SparseMatrix<double>& K, const std::vector<bool>& fixed,

@@ -1,0 +1,97 @@
+#include "fem_distributed_model.h"
+
+#include <mpi.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "distributed_elasticity.h"
+#include "surface_load.h"
+
+namespace tb {
+namespace {
+
+class FemDistributedModel : public Model {
+ public:
+  void setup(const Problem& p) override {
+    const HybridMesh& h = *p.mesh;
+    if (h.fine_volume.T.rows() == 0)
+      throw std::invalid_argument("fem_distributed: the scenario provides no fine volume mesh");
+    mesh_ = &h;
+    surface_to_volume_ = h.fine_surface_to_volume;
+    surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
+    p.support.clamp(h.fine_volume.V, "fine volume");  // the same support check as every model
+    DistributedSettings s;
+    s.degree = p.parameters.integer("degree");
+    s.law = p.parameters.choice("material_law") == "neo_hookean" ? MaterialLaw::NeoHookean : MaterialLaw::Linear;
+    s.cg_tolerance = p.parameters.number("cg_tolerance");
+    s.load_steps = p.parameters.integer("load_steps");
+    const SupportBox support = p.support;
+    distributed_ = std::make_unique<DistributedElasticity>(
+        h.fine_volume, p.material, [support](const Eigen::Vector3d& x) { return support.contains(x); }, s,
+        MPI_COMM_WORLD);
+  }
+
+  void step(const PointLoad& load) override {
+    // The load's points depend on where and how wide it is, not on its size.
+    if (load_points_.empty() || load.point != load_point_ || load.disc_radius != load_radius_) {
+      load_points_ = load.disc_radius > 0 ? disc_load_points(mesh_->fine_volume, mesh_->fine_surface,
+                                                             surface_to_volume_, load.point, load.disc_radius)
+                                          : point_load_points(mesh_->fine_volume, load.point);
+      load_point_ = load.point;
+      load_radius_ = load.disc_radius;
+    }
+    distributed_->solve(load_points_, load.force);
+    surface_u_ = distributed_->node_displacements(surface_to_volume_);
+  }
+
+  const Displacements& surface_displacement() const override { return surface_u_; }
+  int last_iterations() const override { return distributed_->stats().cg_iterations; }
+
+  nlohmann::json report() const override {
+    const DistributedStats& s = distributed_->stats();
+    return {{"dofs", s.dofs},
+            {"cells", s.cells},
+            {"cg_iterations_last_step", s.cg_iterations},
+            {"cg_condition_estimate", s.condition_estimate},
+            {"newton_iterations_last_step", s.newton_iterations},
+            {"load_increments_last_step", s.load_increments},
+            {"increment_halvings_last_step", s.increment_halvings},
+            {"load_points", load_points_.size()},
+            {"seconds",
+             {{"mesh", s.mesh_s},
+              {"dofs", s.dofs_s},
+              {"assembly", s.assembly_s},
+              {"preconditioner", s.preconditioner_s},
+              {"solve_last_step", s.solve_s}}}};
+  }
+
+ private:
+  const HybridMesh* mesh_ = nullptr;
+  std::unique_ptr<DistributedElasticity> distributed_;
+  std::vector<int> surface_to_volume_;
+  Displacements surface_u_;
+  std::vector<LoadPoint> load_points_;  // the load's points, weights summing to 1
+  Eigen::Vector3d load_point_ = Eigen::Vector3d::Zero();
+  double load_radius_ = 0;
+};
+
+}  // namespace
+
+ModelInfo fem_distributed_model_info() {
+  using P = ParameterSpec;
+  return {
+      "fem_distributed",
+      "FEM on the fine tet volume over MPI ranks (deal.II, Trilinos CG with ML AMG): the reference solve at any "
+      "size, P1/P2, linear or neo-Hookean, point or disc load (load.disc_radius); mpirun -np N",
+      false,
+      {P::whole_number("degree", 1, 1, 2, "polynomial degree of the elements, FE_SimplexP"),
+       P::choice("material_law", {"linear", "neo_hookean"}, "linear",
+                 "linear: small-strain elasticity (eq. 9); neo_hookean: compressible neo-Hookean with the same "
+                 "lambda, mu, Newton with load increments"),
+       P::whole_number("load_steps", 1, 1, 1000, "neo_hookean: load increments per frame (halved when Newton fails)"),
+       P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")},
+      [] { return std::make_unique<FemDistributedModel>(); }};
+}
+
+}  // namespace tb

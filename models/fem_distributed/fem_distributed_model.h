@@ -1,0 +1,16 @@
+// The fine FEM distributed over MPI ranks (issue 13): the reference solve at 10^6
+// dofs and beyond, on deal.II's parallel machinery (fem/distributed_elasticity.h),
+// with P1 or P2 elements, the linear or a compressible neo-Hookean law, and the
+// paper's point load or a uniform traction on a disc. `mpirun -np N tissuebench
+// run ...`; one rank without mpirun.
+#pragma once
+
+#include "model.h"
+
+namespace tb {
+
+/// Registry entry for "fem_distributed": parameters `degree`, `material_law`,
+/// `load_steps`, `cg_tolerance`.
+ModelInfo fem_distributed_model_info();
+
+}  // namespace tb

@@ -1,0 +1,101 @@
+// The element integrals shared by every FEM assembly (elasticity_cell.h): the
+// neo-Hookean tangent is the derivative of its internal force (central
+// differences), and at zero displacement it is the linear element matrix of
+// eq. (9). On one P2 tet with a distorted shape, so every term is exercised. A
+// deal.II translation unit.
+#include "elasticity_cell.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/tria.h>
+#include <gtest/gtest.h>
+
+#include <random>
+#include <sstream>
+
+namespace tb {
+namespace {
+
+using namespace dealii;
+
+struct OneTet {
+  Triangulation<3> tria;
+  FESystem<3> fe{FE_SimplexP<3>(2), 3};
+  MappingFE<3> mapping{FE_SimplexP<3>(1)};
+  QGaussSimplex<3> quadrature{2};
+  std::unique_ptr<FEValues<3>> fe_values;
+  std::vector<unsigned> component;
+  OneTet() {
+    const std::vector<Point<3>> v = {{0, 0, 0}, {1.2, 0.1, 0}, {0.2, 0.9, 0.1}, {0.1, 0.3, 1.1}};
+    std::vector<CellData<3>> cells(1, CellData<3>(4));
+    for (unsigned k = 0; k < 4; ++k) cells[0].vertices[k] = k;
+    tria.create_triangulation(v, cells, SubCellData());
+    fe_values = std::make_unique<FEValues<3>>(mapping, fe, quadrature, update_gradients | update_JxW_values);
+    fe_values->reinit(tria.begin_active());
+    for (unsigned i = 0; i < fe.n_dofs_per_cell(); ++i) component.push_back(fe.system_to_component_index(i).first);
+  }
+};
+
+TEST(ElasticityCell, NeoHookeanTangentAtRestIsTheLinearElementMatrix) {
+  OneTet t;
+  const Lame lame(3000, 0.45);
+  const unsigned n = t.fe.n_dofs_per_cell();
+  FullMatrix<double> K_linear, K_neo;
+  dealii::Vector<double> R, u(n);
+  std::vector<Tensor<1, 3>> grad;
+  linear_elastic_cell_matrix(*t.fe_values, t.component, lame, K_linear, grad);
+  ASSERT_TRUE(neo_hookean_cell(*t.fe_values, t.component, u, lame, &K_neo, R, grad));
+  EXPECT_EQ(R.l2_norm(), 0.0) << "no stress at rest";
+  K_neo.add(-1, K_linear);
+  EXPECT_LT(K_neo.frobenius_norm(), 1e-12 * K_linear.frobenius_norm());
+}
+
+TEST(ElasticityCell, NeoHookeanTangentIsTheDerivativeOfTheInternalForce) {
+  OneTet t;
+  const Lame lame(3000, 0.45);
+  const unsigned n = t.fe.n_dofs_per_cell();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  dealii::Vector<double> u(n), R, R_plus, R_minus, u_step(n);
+  for (unsigned i = 0; i < n; ++i) u[i] = 0.08 * unit(rng);  // strains of ~10%: well inside the nonlinear range
+  FullMatrix<double> K;
+  std::vector<Tensor<1, 3>> grad;
+  ASSERT_TRUE(neo_hookean_cell(*t.fe_values, t.component, u, lame, &K, R, grad));
+  const double h = 1e-6;
+  double worst = 0;
+  for (unsigned j = 0; j < n; ++j) {
+    u_step = u;
+    u_step[j] += h;
+    ASSERT_TRUE(neo_hookean_cell(*t.fe_values, t.component, u_step, lame, nullptr, R_plus, grad));
+    u_step[j] -= 2 * h;
+    ASSERT_TRUE(neo_hookean_cell(*t.fe_values, t.component, u_step, lame, nullptr, R_minus, grad));
+    for (unsigned i = 0; i < n; ++i) worst = std::max(worst, std::abs((R_plus[i] - R_minus[i]) / (2 * h) - K(i, j)));
+  }
+  // Central differences: error O(h^2) times third derivatives, plus round-off
+  // |R| eps / h; both far below 1e-6 of the tangent's size here.
+  EXPECT_LT(worst, 1e-6 * K.linfty_norm()) << "worst entry error " << worst << " of " << K.linfty_norm();
+  {
+    std::ostringstream os;
+    os << worst / K.linfty_norm();
+    RecordProperty("worst_relative_entry_error", os.str());
+  }
+}
+
+TEST(ElasticityCell, NeoHookeanRejectsAnInvertedElement) {
+  OneTet t;
+  const unsigned n = t.fe.n_dofs_per_cell();
+  dealii::Vector<double> u(n), R;
+  std::vector<Tensor<1, 3>> grad;
+  // u = -2 x: F = -I, J = -1.
+  const std::vector<Point<3>>& support = t.fe.get_unit_support_points();
+  for (unsigned i = 0; i < n; ++i) {
+    const Point<3> x = t.mapping.transform_unit_to_real_cell(t.tria.begin_active(), support[i]);
+    u[i] = -2 * x[t.component[i]];
+  }
+  EXPECT_FALSE(neo_hookean_cell(*t.fe_values, t.component, u, Lame(3000, 0.45), nullptr, R, grad));
+}
+
+}  // namespace
+}  // namespace tb
