@@ -1,6 +1,8 @@
 #include "load_mapping.h"
 
+#include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -44,6 +46,36 @@ LoadStencil nearest_vertex(const Points& V, const Eigen::Vector3d& point) {
   s.weights << 1, 0, 0, 0;
   s.distance = std::sqrt(d2);
   return s;
+}
+
+LoadStencil nearest_surface_point(const SurfaceMesh& surface, const Eigen::Vector3d& point) {
+  if (surface.F.rows() == 0) throw std::invalid_argument("load point: the surface has no triangles");
+  LoadStencil best;
+  best.distance = std::numeric_limits<double>::infinity();
+  for (Eigen::Index f = 0; f < surface.F.rows(); ++f) {
+    const Eigen::Vector3d a = surface.V.row(surface.F(f, 0)), b = surface.V.row(surface.F(f, 1)),
+                          c = surface.V.row(surface.F(f, 2));
+    const Eigen::Vector3d q = closest_point_on_triangle(point, a, b, c);
+    const double d = (q - point).norm();
+    if (d >= best.distance) continue;
+    // Barycentric weights of q: minimise |a + s (b - a) + t (c - a) - q| (exact for
+    // q in the triangle's plane), clamped against rounding, renormalised.
+    Eigen::Matrix<double, 3, 2> E;
+    E << b - a, c - a;
+    const Eigen::Vector2d st = (E.transpose() * E).ldlt().solve(E.transpose() * (q - a));
+    Eigen::Vector3d w(1 - st.sum(), st(0), st(1));
+    w = w.cwiseMax(0.0);
+    if (!(w.sum() > 0) || !w.allFinite()) {  // a degenerate (zero-area) triangle: its nearest corner
+      Eigen::Index k = 0;
+      Eigen::Vector3d((a - q).squaredNorm(), (b - q).squaredNorm(), (c - q).squaredNorm()).minCoeff(&k);
+      w = Eigen::Vector3d::Unit(k);
+    }
+    w /= w.sum();
+    best.nodes << surface.F(f, 0), surface.F(f, 1), surface.F(f, 2), surface.F(f, 0);
+    best.weights << w, 0;
+    best.distance = d;
+  }
+  return best;
 }
 
 }  // namespace tb

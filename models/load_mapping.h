@@ -5,7 +5,9 @@
 //  - a volume the point may lie just outside (the hybrid's coarse mesh, whose
 //    hull sits inside a curved fine surface): the nearest tet, with unclamped
 //    barycentric weights, as control points are embedded (paper 1.2);
-//  - a surface (PBD, eq. 31): the nearest vertex.
+//  - a surface (PBD, eq. 31): the nearest vertex (the paper), or the nearest
+//    surface point, the force spread over its triangle's vertices by barycentric
+//    weights (consistent with the FEM's P1 load on the same surface).
 // Models look a point up once and keep the answer while the point stays the same
 // (PerLoadPoint), so a frame does no search and no allocation.
 #pragma once
@@ -38,6 +40,11 @@ LoadStencil nearest_tet(const TetMesh& mesh, const Eigen::Vector3d& point);
 /// The vertex of V nearest to `point` (lowest index on ties), weight 1.
 ///   V  #V by 3 positions
 LoadStencil nearest_vertex(const Points& V, const Eigen::Vector3d& point);
+
+/// The point of `surface` nearest `point`: its triangle's three vertices and the
+/// point's barycentric weights there (each in [0, 1], summing to 1); `distance`
+/// from `point` to the surface. Lowest triangle index on ties.
+LoadStencil nearest_surface_point(const SurfaceMesh& surface, const Eigen::Vector3d& point);
 
 /// A lookup redone only when the load point changes (the runner applies the same
 /// point every frame).

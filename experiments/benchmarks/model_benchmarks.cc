@@ -182,7 +182,7 @@ void BM_PbdFrameInstructionSet(benchmark::State& state) {
   settings.precision = state.range(1) == 1 ? pbd::Precision::Single : pbd::Precision::Double;
   pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), settings);
   solver.use_instruction_set(isa);
-  const int load_vertex = nearest_vertex(s.V, kCubeLoad.point).nodes(0);
+  const LoadStencil load_vertex = nearest_vertex(s.V, kCubeLoad.point);
   const Eigen::Vector3d force = scaled_cube_load(mesh).force;
   const Points no_pins;
   for (int f = 0; f < 200; ++f) solver.step(load_vertex, force, {}, no_pins);
@@ -253,7 +253,7 @@ void BM_PbdKernelSpeedup(benchmark::State& state) {
   pbd::Settings reference_settings;
   reference_settings.kernels = pbd::Kernels::Reference;
   pbd::Solver simd(s, w, pbd::Settings{}), reference(s, w, reference_settings);
-  const int load_vertex = nearest_vertex(s.V, kCubeLoad.point).nodes(0);
+  const LoadStencil load_vertex = nearest_vertex(s.V, kCubeLoad.point);
   const Eigen::Vector3d force = scaled_cube_load(mesh).force;
   const Points no_pins;
   using Clock = std::chrono::steady_clock;

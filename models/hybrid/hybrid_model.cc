@@ -13,6 +13,8 @@
 namespace tb {
 namespace {
 
+const LoadStencil kNoLoad{};  // all weights 0: surface_force none
+
 class HybridModel : public Model {
  public:
   void setup(const Problem& p) override {
@@ -54,7 +56,7 @@ class HybridModel : public Model {
       pinned_.push_back(cp.surface_vertex);
     }
     pinned_positions_ = Points::Zero(static_cast<Eigen::Index>(pinned_.size()), 3);
-    apply_force_to_surface_ = p.parameters.choice("surface_force") == "nearest_vertex";
+    apply_force_to_surface_ = p.parameters.choice("surface_force") == "applied";
     solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, fixed),
                                             pbd::Settings::from(p.parameters));
     u_ = Displacements::Zero(s.V.rows(), 3);
@@ -62,10 +64,8 @@ class HybridModel : public Model {
 
   void step(const PointLoad& load) override {
     require_point_load(load, "hybrid");
-    const int load_vertex =
-        surface_load_
-            .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
-            .nodes(0);
+    const LoadStencil& surface_load =
+        surface_load_.get(load.point, [&](const Eigen::Vector3d& x) { return solver_->locate_load(x); });
     using Clock = std::chrono::steady_clock;
     using Ms = std::chrono::duration<double, std::milli>;
     // Step 2: the control points' displacement: coarse K u = f (eq. 11)
@@ -95,7 +95,7 @@ class HybridModel : public Model {
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
     const auto t2 = Clock::now();
-    solver_->step(apply_force_to_surface_ ? load_vertex : -1, load.force, pinned_, pinned_positions_);
+    solver_->step(apply_force_to_surface_ ? surface_load : kNoLoad, load.force, pinned_, pinned_positions_);
     const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
     const auto t4 = Clock::now();
@@ -160,8 +160,8 @@ ModelInfo hybrid_model_info() {
       "point (the nearest tet when it lies outside, distance in run.json); nearest_node, all on the nearest coarse "
       "node"));
   specs.push_back(ParameterSpec::choice(
-      "surface_force", {"nearest_vertex", "none"}, "nearest_vertex",
-      "nearest_vertex: eq. (31) also applies the load to the nearest free surface vertex, as in the paper's step 2; "
+      "surface_force", {"applied", "none"}, "applied",
+      "applied: eq. (31) also applies the load to the surface (where load_spread says), as in the paper's step 2; "
       "none: the load acts only through the coarse FEM"));
   return {"hybrid", "Coarse linear FEM pins the fine surface's control points; PBD moves the rest (paper 1.5)", true,
           specs, [] { return std::make_unique<HybridModel>(); }};

@@ -20,12 +20,10 @@ class PbdModel : public Model {
 
   void step(const PointLoad& load) override {
     require_point_load(load, "pbd");
-    // DESIGN: the force acts on the nearest surface vertex (eq. 31).
-    const int load_vertex =
-        load_vertex_
-            .get(load.point, [&](const Eigen::Vector3d& x) { return nearest_vertex(solver_->rest_positions(), x); })
-            .nodes(0);
-    solver_->step(load_vertex, load.force, no_pins_, no_pin_positions_);
+    // Eq. (31): the nearest surface vertex (DESIGN) or triangle (load_spread).
+    const LoadStencil& surface_load =
+        surface_load_.get(load.point, [&](const Eigen::Vector3d& x) { return solver_->locate_load(x); });
+    solver_->step(surface_load, load.force, no_pins_, no_pin_positions_);
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
     const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -40,7 +38,7 @@ class PbdModel : public Model {
  private:
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
-  PerLoadPoint<LoadStencil> load_vertex_;
+  PerLoadPoint<LoadStencil> surface_load_;
   std::vector<PhaseTime> phases_{{phase::kProjection}, {phase::kIntegration}};
   const std::vector<int> no_pins_;
   const Points no_pin_positions_;

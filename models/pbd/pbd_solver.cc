@@ -35,6 +35,10 @@ std::vector<ParameterSpec> parameter_specs() {
       P::choice("bending_angle", {"unsigned", "signed"}, "unsigned",
                 "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
                 "signed: theta - theta0, smooth there"),
+      P::choice("load_spread", {"nearest_vertex", "surface_triangle"}, "nearest_vertex",
+                "where eq. (31) applies the load: nearest_vertex, the surface vertex nearest the load point (the "
+                "paper); surface_triangle, the nearest surface point, the force shared by its triangle's vertices "
+                "by barycentric weights (as the FEM's P1 load)"),
       P::choice(
           "kernels", {"simd", "reference"}, "simd",
           "simd: the batched vector kernels (projection_kernels.h); reference: the scalar projections written "
@@ -59,6 +63,8 @@ Settings Settings::from(const Parameters& p) {
   s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
   s.damping = p.number("damping");
   s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
+  s.load_spread =
+      p.choice("load_spread") == "surface_triangle" ? LoadSpread::SurfaceTriangle : LoadSpread::NearestVertex;
   s.kernels = p.choice("kernels") == "reference" ? Kernels::Reference : Kernels::Simd;
   s.threads = p.integer("threads");
   s.precision = p.choice("precision") == "single" ? Precision::Single : Precision::Double;
@@ -127,6 +133,7 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
     : rest_(rest.V),
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
+      faces_(rest.F),
       p_(rest.V.rows()),
       q_(0),
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
@@ -146,12 +153,18 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
   if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
 }
 
-void Solver::step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+LoadStencil Solver::locate_load(const Eigen::Vector3d& point) const {
+  return s_.load_spread == LoadSpread::SurfaceTriangle ? nearest_surface_point(SurfaceMesh{rest_, faces_}, point)
+                                                       : nearest_vertex(rest_, point);
+}
+
+void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
                   const Points& pinned_positions) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const double dt = s_.time_step;
-  if (load_vertex >= 0) v_.row(load_vertex) += (dt * w_(load_vertex)) * force.transpose();  // eq. (31)
+  for (int k = 0; k < 4; ++k)  // eq. (31), the force shared by the load's vertices
+    if (load.weights(k) != 0) v_.row(load.nodes(k)) += (dt * w_(load.nodes(k)) * load.weights(k)) * force.transpose();
   v_ *= (1 - s_.damping);
   p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
   const auto t1 = Clock::now();

@@ -10,6 +10,7 @@
 
 #include "constraint_batches.h"
 #include "constraints.h"
+#include "load_mapping.h"
 #include "mesh_types.h"
 #include "parameters.h"
 #include "thread_team.h"
@@ -24,6 +25,11 @@ std::vector<ParameterSpec> parameter_specs();
 /// (reference_projections.h), one constraint at a time in the same order.
 enum class Kernels { Simd, Reference };
 
+/// Where eq. (31) applies the load: the surface vertex nearest the load point (the
+/// paper, DESIGN.md), or the nearest surface point, the force shared by its
+/// triangle's vertices by barycentric weights (as the FEM's P1 load is).
+enum class LoadSpread { NearestVertex, SurfaceTriangle };
+
 struct Settings {
   double time_step = 0.01;                              ///< s
   int iterations = 10;                                  ///< Gauss-Seidel sweeps per frame
@@ -32,6 +38,7 @@ struct Settings {
   bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
   double damping = 0.05;                                ///< fraction of velocity removed per frame
   BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
+  LoadSpread load_spread = LoadSpread::NearestVertex;
   Kernels kernels = Kernels::Simd;
   int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
@@ -65,14 +72,17 @@ class Solver {
   /// control points, which the projection never moves).
   Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings);
 
-  /// One frame. External force `force` on vertex `load_vertex` (-1: none):
-  /// eq. (31) velocities, damping, eq. (32) prediction, then positions of
-  /// `pinned` vertices set to `pinned_positions` (eq. 33; may be empty), the
-  /// Gauss-Seidel projection, and eqs. (34)-(35).
+  /// One frame. External force `force` spread over the vertices of `load` (node k
+  /// receives weights(k) force; all weights 0: no force): eq. (31) velocities, damping, eq. (32) prediction, then
+  /// positions of `pinned` vertices set to `pinned_positions` (eq. 33; may be empty), the Gauss-Seidel projection, and
+  /// eqs. (34)-(35).
   ///   pinned            #P vertex indices (must have inverse mass 0)
   ///   pinned_positions  #P by 3 positions for this frame
-  void step(int load_vertex, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+  void step(const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
             const Points& pinned_positions);
+
+  /// The vertices and weights that carry a load at `point` (Settings::load_spread).
+  LoadStencil locate_load(const Eigen::Vector3d& point) const;
 
   const Points& positions() const { return x_; }
   const Points& rest_positions() const { return rest_; }
@@ -94,6 +104,7 @@ class Solver {
 
  private:
   Points rest_, x_, v_;
+  Triangles faces_;      // the rest surface's triangles (load lookup)
   PaddedPositions p_;    // the predicted positions the projection moves
   PaddedRows<float> q_;  // the same in single precision, for a single-precision sweep (else empty)
   Eigen::VectorXd w_;

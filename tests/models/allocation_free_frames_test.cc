@@ -50,6 +50,7 @@ std::vector<Case> every_model() {
   cases.push_back({"hybrid", {{"threads", 2}}});
   cases.push_back({"pbd", {{"kernels", "reference"}}});
   cases.push_back({"pbd", {{"precision", "single"}}});
+  cases.push_back({"hybrid", {{"load_spread", "surface_triangle"}}});
   return cases;
 }
 

@@ -87,7 +87,7 @@ TEST(PbdSolver, RigidTranslationOfControlPointsMovesTheSurfaceRigidly) {
   const Eigen::RowVector3d t(0.003, -0.002, 0.001);
   Points targets(static_cast<Eigen::Index>(pinned.size()), 3);
   for (size_t k = 0; k < pinned.size(); ++k) targets.row(static_cast<Eigen::Index>(k)) = s.V.row(pinned[k]) + t;
-  for (int f = 0; f < 3000; ++f) solver.step(-1, Eigen::Vector3d::Zero(), pinned, targets);
+  for (int f = 0; f < 3000; ++f) solver.step(LoadStencil{}, Eigen::Vector3d::Zero(), pinned, targets);
   const Points moved = solver.positions().rowwise() - t;
   EXPECT_LT((moved - s.V).cwiseAbs().maxCoeff(), 1e-9);
 }

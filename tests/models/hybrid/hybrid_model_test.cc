@@ -35,7 +35,7 @@ TEST(HybridModel, ControlPointsAreTheCoarseSolutionAtTheirWeights) {
   Eigen::VectorXd u_coarse;
   solve->solve(containing_tet(h.coarse_volume, kPull.point, "coarse volume"), kPull.force, u_coarse);
 
-  for (const std::string surface_force : {"none", "nearest_vertex"}) {
+  for (const std::string surface_force : {"none", "applied"}) {
     auto m = make("hybrid", h, {{"surface_force", surface_force}});
     for (int frame = 0; frame < 3; ++frame) m->step(kPull);
     const Displacements& u = m->surface_displacement();

@@ -294,7 +294,7 @@ TEST(ConstraintBatches, ProjectionIsBitwiseTheSameOnAnyNumberOfThreads) {
 
 TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
   const DisturbedCube cube;
-  const int load_vertex = nearest_vertex(cube.surface.V, Vec3(0, 0, 0.1)).nodes(0);
+  const LoadStencil load_vertex = nearest_vertex(cube.surface.V, Vec3(0, 0, 0.1));
   for (Precision precision : {Precision::Double, Precision::Single}) {
     Points reference;
     for (int threads : {1, 2, 4}) {
@@ -303,7 +303,7 @@ TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
       s.precision = precision;
       Solver solver(cube.surface, cube.inverse_mass, s);
       // Pins as in the hybrid: a few vertices moved each frame.
-      const std::vector<int> pinned = {load_vertex + 1, load_vertex + 2};
+      const std::vector<int> pinned = {load_vertex.nodes(0) + 1, load_vertex.nodes(0) + 2};
       Points pinned_positions(2, 3);
       for (int f = 0; f < 30; ++f) {
         for (int k = 0; k < 2; ++k)

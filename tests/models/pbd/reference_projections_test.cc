@@ -401,7 +401,7 @@ TEST(ReferenceProjections, SolverWithReferenceKernelsFollowsTheSimdSolver) {
   const Eigen::VectorXd w = inverse_masses(s, 1000, fixed);
   Solver a(s, w, simd), b(s, w, ref);
   const Points none;
-  const int load_vertex = nearest_vertex(s.V, Vec3(0, 0, 0.1)).nodes(0);
+  const LoadStencil load_vertex = nearest_vertex(s.V, Vec3(0, 0, 0.1));
   for (int f = 0; f < 100; ++f) {
     a.step(load_vertex, Vec3(0.3, -0.2, 1.0), {}, none);
     b.step(load_vertex, Vec3(0.3, -0.2, 1.0), {}, none);
