@@ -145,15 +145,17 @@ void BM_FemFrame(benchmark::State& state) {
 std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
                                   int iterations, nlohmann::json parameters = nlohmann::json::object()) {
   const ModelInfo& info = find_model(name);
-  parameters["iterations"] = iterations;
+  for (const ParameterSpec& spec : info.parameters)  // PBD iterations, for the models that have them
+    if (spec.name == "iterations") parameters["iterations"] = iterations;
   Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
   auto m = info.create();
   m->setup(p);
   return m;
 }
 
-/// One frame of a dynamic model. range(0): 0 cube, 1 liver; range(1): iterations.
-void dynamic_frame(benchmark::State& state, const std::string& model) {
+/// One frame of a model (after 200, near a dynamic model's steady state).
+/// range(0): 0 cube, 1 liver; range(1): PBD iterations (ignored by models without).
+void model_frame(benchmark::State& state, const std::string& model) {
   const bool liver = state.range(0) == 1;
   const HybridMesh& mesh = liver ? liver_mesh() : cube_mesh(1);
   auto m = make_model(model, mesh, liver ? kLiverBottom : kCubeBottom, static_cast<int>(state.range(1)));
@@ -163,8 +165,25 @@ void dynamic_frame(benchmark::State& state, const std::string& model) {
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.SetLabel(pbd::name(pbd::best_instruction_set()));  // the projection's vector instructions
 }
-void BM_PbdFrame(benchmark::State& state) { dynamic_frame(state, "pbd"); }
-void BM_HybridFrame(benchmark::State& state) { dynamic_frame(state, "hybrid"); }
+void BM_PbdFrame(benchmark::State& state) { model_frame(state, "pbd"); }
+void BM_HybridFrame(benchmark::State& state) { model_frame(state, "hybrid"); }
+void BM_CondensedFrame(benchmark::State& state) { model_frame(state, "condensed"); }
+void BM_EmbeddedFrame(benchmark::State& state) { model_frame(state, "embedded"); }
+
+/// The condensed model's precomputation (a back-solve per loadable surface dof) and
+/// the memory of its response matrix. range(0): 0 cube, 1 liver (needs a fine volume).
+void BM_CondensedSetup(benchmark::State& state) {
+  const bool liver = state.range(0) == 1;
+  const HybridMesh& mesh = liver ? liver_mesh() : cube_mesh(1);
+  nlohmann::json report;
+  for (auto _ : state) {
+    auto m = make_model("condensed", mesh, liver ? kLiverBottom : kCubeBottom, 10);
+    m->step(liver ? kLiverLoad : kCubeLoad);
+    report = m->report();
+  }
+  state.counters["response_MiB"] = report.value("response_memory_mib", 0.0);
+  state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
+}
 
 /// One PBD frame (10 iterations) with the projection on range(0) = 0 SSE2, 1 AVX,
 /// 2 AVX-512, in range(1) = 0 double, 1 single precision, on range(2) = 0 the
@@ -305,6 +324,10 @@ BENCHMARK(BM_HybridFrame)
     ->ArgNames({"liver", "iterations"})
     ->ArgsProduct({{0, 1}, {5, 10, 20}})
     ->Unit(benchmark::kMillisecond);
+// The benchmarks' liver has no fine volume (the condensed model needs one): cube only.
+BENCHMARK(BM_CondensedFrame)->ArgNames({"liver", "iterations"})->Args({0, 10});
+BENCHMARK(BM_EmbeddedFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {10}});
+BENCHMARK(BM_CondensedSetup)->ArgName("liver")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdFrameInstructionSet)
     ->ArgNames({"isa", "single", "divisions"})
     ->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 40}})
