@@ -3,13 +3,13 @@
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_simplex_p.h>
-#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
-#include <tuple>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace tb {
@@ -73,7 +73,7 @@ class BlockPattern {
 
 void limit_assembly_threads(unsigned threads) { dealii::MultithreadInfo::set_thread_limit(threads); }
 
-Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
+P1Elements p1_elements(const TetMesh& mesh) {
   using namespace dealii;
   std::vector<Point<3>> vertices;
   vertices.reserve(static_cast<size_t>(mesh.V.rows()));
@@ -85,40 +85,54 @@ Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, do
   tria.create_triangulation(vertices, cells, SubCellData());
 
   const FE_SimplexP<3> p1(1);
-  const FESystem<3> fe(p1, 3);
   const MappingFE<3> mapping(p1);
   const QGaussSimplex<3> quadrature(1);  // B is constant on a P1 tet: one point is exact
-  FEValues<3> fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
+  FEValues<3> fe_values(mapping, p1, quadrature, update_gradients | update_JxW_values);
 
-  // Lame parameters of the elasticity matrix D (eq. 9).
-  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  const double mu = E / (2 * (1 + nu));
-
-  const unsigned n = fe.n_dofs_per_cell();  // 12
-  // FE_SimplexP(1) numbers its shape functions by the cell's vertices.
-  std::vector<unsigned> component(n), vertex(n);
-  for (unsigned i = 0; i < n; ++i) std::tie(component[i], vertex[i]) = fe.system_to_component_index(i);
-  BlockPattern K(mesh);
-  std::vector<int> node(n);
-  std::vector<Tensor<1, 3>> grad(n);
+  P1Elements e;
+  e.gradients.resize(mesh.T.rows(), 12);
+  e.volumes.resize(mesh.T.rows());
   for (const auto& cell : tria.active_cell_iterators()) {
     fe_values.reinit(cell);
-    for (unsigned i = 0; i < n; ++i) node[i] = static_cast<int>(cell->vertex_index(vertex[i]));
-    for (unsigned q = 0; q < quadrature.size(); ++q) {
-      for (unsigned i = 0; i < n; ++i) grad[i] = fe_values.shape_grad(i, q);
-      const double JxW = fe_values.JxW(q);
-      for (unsigned i = 0; i < n; ++i) {
-        const unsigned ci = component[i];
-        for (unsigned j = 0; j < n; ++j) {
-          const unsigned cj = component[j];
-          // (B^T D B)_ij for isotropic D, as in deal.II step-8.
-          double k = grad[i][ci] * grad[j][cj] * lambda + grad[i][cj] * grad[j][ci] * mu;
-          if (ci == cj) k += grad[i] * grad[j] * mu;
-          K.add(node[i], static_cast<int>(ci), node[j], static_cast<int>(cj), k * JxW);
-        }
-      }
+    const auto t = static_cast<Eigen::Index>(cell->index());  // level-0 cells keep their creation order
+    e.volumes(t) = fe_values.JxW(0);
+    // FE_SimplexP(1) numbers its shape functions by the cell's vertices; place
+    // each at its node's position k in the row T(t, :).
+    for (unsigned i = 0; i < 4; ++i) {
+      const int node = static_cast<int>(cell->vertex_index(i));
+      int k = 0;
+      while (k < 4 && mesh.T(t, k) != node) ++k;
+      if (k == 4)
+        throw std::logic_error("p1_elements: deal.II cell " + std::to_string(t) + " is not tet " + std::to_string(t) +
+                               " of the mesh");
+      const Tensor<1, 3> g = fe_values.shape_grad(i, 0);
+      for (int c = 0; c < 3; ++c) e.gradients(t, 3 * k + c) = g[static_cast<unsigned>(c)];
     }
   }
+  return e;
+}
+
+Lame lame_parameters(double E, double nu) { return {E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))}; }
+
+Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
+  const P1Elements e = p1_elements(mesh);
+  const Lame l = lame_parameters(E, nu);
+  BlockPattern K(mesh);
+  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        const double* ga = &e.gradients(t, 3 * a);
+        const double* gb = &e.gradients(t, 3 * b);
+        const double dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+        for (int ci = 0; ci < 3; ++ci)
+          for (int cj = 0; cj < 3; ++cj) {
+            // (B^T D B)_ab for isotropic D, as in deal.II step-8:
+            // lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I, times the volume.
+            double k = ga[ci] * gb[cj] * l.lambda + ga[cj] * gb[ci] * l.mu;
+            if (ci == cj) k += dot * l.mu;
+            K.add(mesh.T(t, a), ci, mesh.T(t, b), cj, k * e.volumes(t));
+          }
+      }
   return K.matrix();
 }
 
