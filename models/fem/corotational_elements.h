@@ -28,14 +28,20 @@ namespace tb {
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F);
 
 /// R - I for the polar rotation R of F = I + H (H the displacement gradient),
-/// accurate relative to |R - I| however small the rotation: polar_rotation(F) - I
-/// alone has an absolute error of about 1e-16, relative 1e-16 / |R - I|, which at
-/// small loads is what limits the corotational residual. It is corrected by one
-/// Newton step on the polar condition skew(R^T F) = 0, written in small quantities:
-/// R = R0 (I + [w]x) with (tr(S) I - S) w = axial(M - M^T), M = R0^T F, S = sym(M).
-/// For det F <= 0 (where tr(S) I - S may be singular) the SVD's result is kept.
+/// accurate relative to |R - I| however small the rotation (polar_rotation(F) - I
+/// has an absolute error of about 1e-16, relative 1e-16 / |R - I|, which at small
+/// loads would set the corotational residual's floor). Newton's iteration on the
+/// polar condition skew(R^T F) = 0, warm-started from A, written in small terms:
+///   R <- R exp([w]x),  (tr(S) I - S) w = axial(M - M^T),  M = R^T F, S = sym(M)
+/// (quadratic near the solution; two steps from the last update's rotation are
+/// typical). Falls back to polar_rotation (the SVD) when det F <= 0, when
+/// tr(S) I - S is not positive definite or a step exceeds 2 radians (too far
+/// from the solution), when it converges to R with R^T F not positive definite
+/// (another stationary point) or has not converged in 8 steps.
 ///   H  3 by 3, F = I + H
-Eigen::Matrix3d polar_rotation_minus_identity(const Eigen::Matrix3d& H);
+///   A  3 by 3: in, R - I of a nearby F (0: start from the identity); out, R - I
+/// Returns false when the SVD was used.
+bool polar_rotation_minus_identity(const Eigen::Matrix3d& H, Eigen::Matrix3d& A);
 
 class CorotationalElements {
  public:
@@ -61,6 +67,8 @@ class CorotationalElements {
   Eigen::Matrix3d rotation(Eigen::Index t) const;
   /// Tets with det F <= 0 (inverted or flat) at the last update.
   int inverted_elements() const { return inverted_; }
+  /// Tets whose rotation the SVD gave at the last update (polar_rotation_minus_identity).
+  int svd_fallbacks() const { return svd_fallbacks_; }
   Eigen::Index dofs() const { return 3 * V_.rows(); }
 
  private:
@@ -74,10 +82,10 @@ class CorotationalElements {
   Tetrahedra T_;  ///< #T by 4
   P1Elements e_;  ///< g and V per tet
   Lame lame_;
-  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> R_;   ///< #T by 9: R_e row-major
+  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> A_;   ///< #T by 9: R_e - I row-major
   Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor> h_;  ///< #T by 12: R_e g_k, k = 0..3
   Eigen::VectorXd c_;
-  int inverted_ = 0;
+  int inverted_ = 0, svd_fallbacks_ = 0;
 };
 
 }  // namespace tb

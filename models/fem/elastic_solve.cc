@@ -174,8 +174,14 @@ class CorotationalSolve : public ElasticSolve {
       body_.to_free(elements_.offset(), b_);
       b_ += f_;
       x_previous_ = x_;
-      const int iterations =
-          conjugate_gradients(apply, precondition, b_, x_, tolerance_, 10 * body_.free_dofs(), work_);
+      // In "converged", an inexact solve: CG reduces this update's residual by
+      // kForcing only (the next update changes the system anyway), down to
+      // cg_tolerance. At 1 N on the paper's cube, 17.6 CG iterations per frame
+      // (mean over the ramp) instead of 56.4 solving each update to cg_tolerance
+      // (0.1: 23.4), for 14 updates instead of 11.
+      constexpr double kForcing = 0.3;
+      const int iterations = conjugate_gradients(apply, precondition, b_, x_, tolerance_, 10 * body_.free_dofs(), work_,
+                                                 converge_ ? kForcing : 0.0);
       last_iterations_ += iterations;
       // d^k = v - u^k, the fixed-point step; in "converged", w^k by Aitken's
       // delta-squared rule (Irons and Tuck 1969) from d^{k-1} and d^k, kept in [0.01, 1].
@@ -191,6 +197,7 @@ class CorotationalSolve : public ElasticSolve {
       last_updates_ = update;
       max_updates_seen_ = std::max(max_updates_seen_, update);
       max_inverted_ = std::max(max_inverted_, elements_.inverted_elements());
+      max_svd_fallbacks_ = std::max(max_svd_fallbacks_, elements_.svd_fallbacks());
       if (!converge_ || iterations == 0) break;
       if (update == max_updates_)
         throw std::runtime_error("corotational solve: the rotations still change the solution after " +
@@ -210,7 +217,8 @@ class CorotationalSolve : public ElasticSolve {
             {"ordering", cholesky_.ordering()},
             {"rotation_updates_last_solve", last_updates_},
             {"rotation_updates_max", max_updates_seen_},
-            {"inverted_elements_max", max_inverted_}};
+            {"inverted_elements_max", max_inverted_},
+            {"svd_rotations_max", max_svd_fallbacks_}};
   }
 
  private:
@@ -225,7 +233,7 @@ class CorotationalSolve : public ElasticSolve {
   Eigen::VectorXd step_, step_previous_, step_change_;  ///< free dofs: d^k, d^{k-1}, their difference
   Eigen::VectorXd f_, b_, x_, x_previous_;              ///< free dofs: load, right-hand side f + c, solution, u^k
   Eigen::VectorXd p_full_, y_full_;                     ///< 3 #V: K_R's argument and product
-  int last_iterations_ = 0, last_updates_ = 0, max_updates_seen_ = 0, max_inverted_ = 0;
+  int last_iterations_ = 0, last_updates_ = 0, max_updates_seen_ = 0, max_inverted_ = 0, max_svd_fallbacks_ = 0;
 };
 
 }  // namespace

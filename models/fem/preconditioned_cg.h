@@ -9,6 +9,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -28,12 +29,13 @@ struct CgWorkspace {
 /// definite operator, the loop every CG in the project runs:
 ///   apply(p, q)        q = A p
 ///   precondition(r, z) z = B r, B symmetric positive definite (approximately A^-1)
-/// x is the warm start and the result. Stops when |b - A x| <= tolerance |b|;
-/// returns the iterations (0: x already satisfied it). Throws std::runtime_error
-/// after max_iterations. No allocation when w has the size of b.
+/// x is the warm start and the result. Stops when |b - A x| <= tolerance |b|, or
+/// <= reduction |b - A x_0| (an inexact solve inside an outer iteration; 0: off);
+/// returns the iterations (0: x already satisfied the first). Throws
+/// std::runtime_error after max_iterations. No allocation when w has the size of b.
 template <class Apply, class Precondition>
 int conjugate_gradients(Apply&& apply, Precondition&& precondition, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                        double tolerance, int max_iterations, CgWorkspace& w);
+                        double tolerance, int max_iterations, CgWorkspace& w, double reduction = 0);
 
 class SupernodalCholesky;
 
@@ -69,11 +71,12 @@ class PreconditionedCG {
 
 template <class Apply, class Precondition>
 int conjugate_gradients(Apply&& apply, Precondition&& precondition, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                        double tolerance, int max_iterations, CgWorkspace& w) {
-  const double threshold = tolerance * tolerance * b.squaredNorm();
+                        double tolerance, int max_iterations, CgWorkspace& w, double reduction) {
+  double threshold = tolerance * tolerance * b.squaredNorm();
   apply(x, w.r);
   w.r = b - w.r;
   if (w.r.squaredNorm() <= threshold) return 0;
+  threshold = std::max(threshold, reduction * reduction * w.r.squaredNorm());
   precondition(w.r, w.z);
   w.p = w.z;
   double rz = w.r.dot(w.z);

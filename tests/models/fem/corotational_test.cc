@@ -51,18 +51,41 @@ TEST(PolarRotation, AnInvertedElementGetsARotationNotAReflection) {
 
 TEST(PolarRotation, TheDeviationFromIdentityIsAccurateForTinyRotations) {
   // F = I + t K: R - I = t skew(K) + O(t^2). At t = 1e-11 the SVD alone gets
-  // R - I to about 1e-16 / 1e-11 = 1e-5 relative; the corrected one to rounding.
+  // R - I to about 1e-16 / 1e-11 = 1e-5 relative; the Newton iteration to rounding.
   Eigen::Matrix3d K;
   K << 0.3, -1.2, 0.4, 0.9, -0.2, 0.7, -0.5, 0.1, 0.6;
   const double t = 1e-11;
   const Eigen::Matrix3d expected = t * 0.5 * (K - K.transpose());
-  const Eigen::Matrix3d A = polar_rotation_minus_identity(t * K);
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  EXPECT_TRUE(polar_rotation_minus_identity(t * K, A));
   EXPECT_LT((A - expected).norm(), 1e-9 * expected.norm());
-  // And for a finite rotation it is R - I.
+  EXPECT_GT((polar_rotation(Eigen::Matrix3d::Identity() + t * K) - Eigen::Matrix3d::Identity() - expected).norm(),
+            1e-9 * expected.norm())
+      << "the SVD alone is accurate here: the test shows nothing";
+}
+
+TEST(PolarRotation, NewtonAgreesWithTheSvdFromAnyWarmStart) {
+  Eigen::Matrix3d K;
+  K << 0.3, -1.2, 0.4, 0.9, -0.2, 0.7, -0.5, 0.1, 0.6;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
-  const Eigen::Matrix3d F = Q * (Eigen::Matrix3d::Identity() + 0.1 * (K + K.transpose()));
-  EXPECT_LT((polar_rotation_minus_identity(F - Eigen::Matrix3d::Identity()) - (Q - Eigen::Matrix3d::Identity())).norm(),
-            1e-13);
+  const Eigen::Matrix3d F = Q * (I + 0.1 * (K + K.transpose()));
+  const Eigen::Matrix3d starts[3] = {
+      Eigen::Matrix3d::Zero(),                                                                   // the identity
+      Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 0.9, 0.1).normalized()).toRotationMatrix() - I,  // near
+      Eigen::AngleAxisd(3.0, Eigen::Vector3d(0, 0, 1)).toRotationMatrix() - I};                  // far: SVD
+  for (int s = 0; s < 3; ++s) {
+    Eigen::Matrix3d A = starts[s];
+    const bool newton = polar_rotation_minus_identity(F - I, A);
+    EXPECT_LT((A - (Q - I)).norm(), 1e-13) << "start " << s << (newton ? " (Newton)" : " (SVD)");
+    if (s < 2) {
+      EXPECT_TRUE(newton) << "start " << s << ": the fast path was not taken";
+    }
+  }
+  // An inverted F goes to the SVD and gets a rotation.
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  EXPECT_FALSE(polar_rotation_minus_identity(Q * Eigen::Vector3d(2, 1, -0.5).asDiagonal() - I, A));
+  EXPECT_LT((A - (Q - I)).norm(), 1e-13);
 }
 
 TEST(CorotationalElements, WithoutRotationItIsTheLinearStiffness) {
