@@ -41,7 +41,7 @@ struct ElasticSolveOptions {
   /// no longer change the solution, at most corotational_max_updates) or
   /// "per_frame" (one update and one linearised solve per call)
   std::string corotational_update = "converged";
-  int corotational_max_updates = 100;
+  int corotational_max_updates = 1000;
   /// corotational: the fraction of each update's solve step taken, in (0, 1]
   double corotational_relaxation = 0.5;
 };
