@@ -1,5 +1,6 @@
 // Corotational linear elasticity on P1 tets: stiffness warping with one rotation
-// per element (Mueller and Gross 2004, "Interactive Virtual Materials", sec. 4).
+// per element (Mueller and Gross 2004, "Interactive Virtual Materials", GI 2004;
+// the paper is not in the repository, so its equation numbers are not cited here).
 // Each tet's rotation R_e is the rotational factor of the polar decomposition of
 // its deformation gradient; the element then acts as the linear element of
 // eq. (9) in its rotated frame:

@@ -118,7 +118,7 @@ class IterativeSolve : public ElasticSolve {
   int last_iterations_ = 0;
 };
 
-/// Corotational linear FEM (Mueller and Gross 2004, sec. 4): the equilibrium
+/// Corotational linear FEM (Mueller and Gross 2004, corotational_elements.h): the equilibrium
 /// sum_e R_e K_e (R_e^T x_e - X_e) = f, with R_e the polar rotation of tet e at u,
 /// solved by the (relaxed) fixed-point iteration of stiffness warping
 ///   R^k = R(u^k),  v = K_R(R^k)^-1 (f + c(R^k)),  u^{k+1} = u^k + w^k (v - u^k)
