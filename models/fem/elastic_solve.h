@@ -37,6 +37,13 @@ struct ElasticSolveOptions {
   /// iterative, two_level: a coarser tet mesh of the same body whose P1
   /// interpolation is the coarse space (nullptr: two_level is an error)
   const TetMesh* coarse_space = nullptr;
+  /// corotational: "converged" (rotation updates and solves until the rotations
+  /// no longer change the solution, at most corotational_max_updates) or
+  /// "per_frame" (one update and one linearised solve per call)
+  std::string corotational_update = "converged";
+  int corotational_max_updates = 1000;
+  /// corotational: the fraction of each update's solve step taken, in (0, 1]
+  double corotational_relaxation = 0.5;
 };
 
 struct ElasticSolveInfo {

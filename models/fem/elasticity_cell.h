@@ -12,13 +12,9 @@
 #include <cmath>
 #include <vector>
 
-namespace tb {
+#include "stiffness_assembly.h"  // Lame
 
-/// Lame parameters of the isotropic elasticity matrix D (eq. 9).
-struct Lame {
-  double lambda = 0, mu = 0;
-  Lame(double E, double nu) : lambda(E * nu / ((1 + nu) * (1 - 2 * nu))), mu(E / (2 * (1 + nu))) {}
-};
+namespace tb {
 
 /// K^e = sum_q (B^T D B)(x_q) JxW_q (eq. 9) for isotropic D, as in deal.II step-8:
 ///   K^e_ij = lambda d_ci N_i d_cj N_j + mu d_cj N_i d_ci N_j + [ci = cj] mu grad N_i . grad N_j

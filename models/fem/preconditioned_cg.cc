@@ -12,7 +12,8 @@ PreconditionedCG::PreconditionedCG(const Eigen::SparseMatrix<double>& matrix, do
   ic_.compute(matrix);
   if (ic_.info() != Eigen::Success) throw std::runtime_error("incomplete Cholesky preconditioner failed");
   const Eigen::Index n = matrix.rows();
-  for (Eigen::VectorXd* v : {&r_, &z_, &p_, &q_, &t_}) v->setZero(n);
+  work_.resize(n);
+  t_.setZero(n);
   if (prolongation) {
     if (prolongation->rows() != n) throw std::invalid_argument("prolongation: one row per dof expected");
     P_ = *prolongation;
@@ -52,26 +53,9 @@ void PreconditionedCG::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z
 }
 
 int PreconditionedCG::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  const double threshold = tolerance_ * tolerance_ * b.squaredNorm();
-  r_.noalias() = K_ * x;
-  r_ = b - r_;
-  if (r_.squaredNorm() <= threshold) return 0;
-  precondition(r_, z_);
-  p_ = z_;
-  double rz = r_.dot(z_);
-  for (int it = 1; it <= max_iterations_; ++it) {
-    q_.noalias() = K_ * p_;
-    const double alpha = rz / p_.dot(q_);
-    x += alpha * p_;
-    r_ -= alpha * q_;
-    if (r_.squaredNorm() <= threshold) return it;
-    precondition(r_, z_);
-    const double rz_new = r_.dot(z_);
-    p_ = z_ + (rz_new / rz) * p_;
-    rz = rz_new;
-  }
-  throw std::runtime_error("CG did not reach the relative tolerance in " + std::to_string(max_iterations_) +
-                           " iterations");
+  return conjugate_gradients([this](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q.noalias() = K_ * p; },
+                             [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { precondition(r, z); }, b, x,
+                             tolerance_, max_iterations_, work_);
 }
 
 }  // namespace tb

@@ -3,16 +3,14 @@
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_simplex_p.h>
-#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
-#include <tuple>
+#include <stdexcept>
+#include <string>
 #include <vector>
-
-#include "elasticity_cell.h"
 
 namespace tb {
 namespace {
@@ -75,7 +73,7 @@ class BlockPattern {
 
 void limit_assembly_threads(unsigned threads) { dealii::MultithreadInfo::set_thread_limit(threads); }
 
-Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
+P1Elements p1_elements(const TetMesh& mesh) {
   using namespace dealii;
   std::vector<Point<3>> vertices;
   vertices.reserve(static_cast<size_t>(mesh.V.rows()));
@@ -87,28 +85,52 @@ Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, do
   tria.create_triangulation(vertices, cells, SubCellData());
 
   const FE_SimplexP<3> p1(1);
-  const FESystem<3> fe(p1, 3);
   const MappingFE<3> mapping(p1);
   const QGaussSimplex<3> quadrature(1);  // B is constant on a P1 tet: one point is exact
-  FEValues<3> fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
-  const Lame lame(E, nu);
+  FEValues<3> fe_values(mapping, p1, quadrature, update_gradients | update_JxW_values);
 
-  const unsigned n = fe.n_dofs_per_cell();  // 12
-  // FE_SimplexP(1) numbers its shape functions by the cell's vertices.
-  std::vector<unsigned> component(n), vertex(n);
-  for (unsigned i = 0; i < n; ++i) std::tie(component[i], vertex[i]) = fe.system_to_component_index(i);
-  BlockPattern K(mesh);
-  std::vector<int> node(n);
-  FullMatrix<double> Ke;
-  std::vector<Tensor<1, 3>> grad;
+  P1Elements e;
+  e.gradients.resize(mesh.T.rows(), 12);
+  e.volumes.resize(mesh.T.rows());
   for (const auto& cell : tria.active_cell_iterators()) {
     fe_values.reinit(cell);
-    for (unsigned i = 0; i < n; ++i) node[i] = static_cast<int>(cell->vertex_index(vertex[i]));
-    linear_elastic_cell_matrix(fe_values, component, lame, Ke, grad);  // eq. (9), shared with the distributed FEM
-    for (unsigned i = 0; i < n; ++i)
-      for (unsigned j = 0; j < n; ++j)
-        K.add(node[i], static_cast<int>(component[i]), node[j], static_cast<int>(component[j]), Ke(i, j));
+    const auto t = static_cast<Eigen::Index>(cell->index());  // level-0 cells keep their creation order
+    e.volumes(t) = fe_values.JxW(0);
+    // FE_SimplexP(1) numbers its shape functions by the cell's vertices; place
+    // each at its node's position k in the row T(t, :).
+    for (unsigned i = 0; i < 4; ++i) {
+      const int node = static_cast<int>(cell->vertex_index(i));
+      int k = 0;
+      while (k < 4 && mesh.T(t, k) != node) ++k;
+      if (k == 4)
+        throw std::logic_error("p1_elements: deal.II cell " + std::to_string(t) + " is not tet " + std::to_string(t) +
+                               " of the mesh");
+      const Tensor<1, 3> g = fe_values.shape_grad(i, 0);
+      for (int c = 0; c < 3; ++c) e.gradients(t, 3 * k + c) = g[static_cast<unsigned>(c)];
+    }
   }
+  return e;
+}
+
+Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
+  const P1Elements e = p1_elements(mesh);
+  const Lame l(E, nu);
+  BlockPattern K(mesh);
+  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        const double* ga = &e.gradients(t, 3 * a);
+        const double* gb = &e.gradients(t, 3 * b);
+        const double dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+        for (int ci = 0; ci < 3; ++ci)
+          for (int cj = 0; cj < 3; ++cj) {
+            // (B^T D B)_ab for isotropic D, as in deal.II step-8:
+            // lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I, times the volume.
+            double k = ga[ci] * gb[cj] * l.lambda + ga[cj] * gb[ci] * l.mu;
+            if (ci == cj) k += dot * l.mu;
+            K.add(mesh.T(t, a), ci, mesh.T(t, b), cj, k * e.volumes(t));
+          }
+      }
   return K.matrix();
 }
 

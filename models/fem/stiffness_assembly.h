@@ -9,8 +9,29 @@
 
 namespace tb {
 
-/// K (eq. 11), assembled from element matrices K^e = int B^T D B dx (eq. 9) with
-/// deal.II's FE_SimplexP<3>(1)^3, MappingFE and QGaussSimplex.
+/// What the element matrices of P1 tets are made of: the gradient of each node's
+/// (scalar) shape function, constant on the tet, and the tet's volume, from deal.II's
+/// FE_SimplexP<3>(1), MappingFE and QGaussSimplex(1) (exact: B is constant).
+/// With them the isotropic element matrix of eq. (9) is, per pair of nodes a, b,
+///   K^e_ab = V (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I)   (3 by 3)
+struct P1Elements {
+  /// #T by 12: columns 3k..3k+2 of row t are the gradient g_k of the shape
+  /// function of node T(t, k) (1/m)
+  Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor> gradients;
+  Eigen::VectorXd volumes;  ///< #T, m^3
+};
+///   mesh  positively oriented tets
+P1Elements p1_elements(const TetMesh& mesh);
+
+/// Lame parameters of the isotropic elasticity matrix D (eq. 9), for every
+/// assembly (serial, corotational, distributed: elasticity_cell.h).
+struct Lame {
+  double lambda = 0, mu = 0;
+  Lame(double E, double nu) : lambda(E * nu / ((1 + nu) * (1 - 2 * nu))), mu(E / (2 * (1 + nu))) {}
+};
+
+/// K (eq. 11), assembled from the element matrices K^e = int B^T D B dx (eq. 9)
+/// of p1_elements(mesh).
 ///   mesh  positively oriented tets
 ///   returns 3 #V by 3 #V symmetric matrix; dof 3 * node + component
 Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double youngs_modulus, double poisson_ratio);

@@ -45,6 +45,9 @@ std::vector<Case> every_model() {
     if (m.name != "fem_distributed") cases.push_back({m.name, nlohmann::json::object()});
   cases.push_back({"fem", {{"solver", "iterative"}}});
   cases.push_back({"hybrid", {{"coarse_solver", "iterative"}}});
+  cases.push_back({"fem", {{"solver", "corotational"}}});
+  cases.push_back({"hybrid", {{"coarse_solver", "corotational"}}});
+  cases.push_back({"fem", {{"solver", "corotational"}, {"corotational_update", "per_frame"}}});
   cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}});
   cases.push_back({"pbd", {{"threads", 2}}});
   cases.push_back({"hybrid", {{"threads", 2}}});
