@@ -130,22 +130,26 @@ TetEmbedding TetLocator::locate(const Eigen::Vector3d& p) const {
   const size_t bin = static_cast<size_t>((c(0) * count_[1] + c(1)) * count_[2] + c(2));
   Eigen::Vector4d w;
   for (int64_t i = start_[bin]; i < start_[bin + 1]; ++i)
-    if (contains(mesh_, tets_[static_cast<size_t>(i)], p, tolerance_, w)) return {tets_[static_cast<size_t>(i)], w, 0.0};
+    if (contains(mesh_, tets_[static_cast<size_t>(i)], p, tolerance_, w))
+      return {tets_[static_cast<size_t>(i)], w, 0.0};
   return nearest_tet(mesh_, p);
 }
 
 double winding_number(const SurfaceMesh& s, const Eigen::Vector3d& p) {
-  // Van Oosterom-Strackee solid angle of each triangle, summed / 4 pi.
+  // The solid angles of the triangles, summed / 4 pi.
   double total = 0;
-  for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
-    const Eigen::Vector3d a = s.V.row(s.F(t, 0)).transpose() - p, b = s.V.row(s.F(t, 1)).transpose() - p,
-                          c = s.V.row(s.F(t, 2)).transpose() - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double num = a.dot(b.cross(c));
-    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    total += 2 * std::atan2(num, den);
-  }
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t)
+    total += triangle_solid_angle(s.V.row(s.F(t, 0)), s.V.row(s.F(t, 1)), s.V.row(s.F(t, 2)), p);
   return total / (4 * M_PI);
+}
+
+double triangle_solid_angle(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& c0,
+                            const Eigen::Vector3d& p) {
+  const Eigen::Vector3d a = a0 - p, b = b0 - p, c = c0 - p;
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double num = a.dot(b.cross(c));
+  const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+  return 2 * std::atan2(num, den);
 }
 
 }  // namespace tb

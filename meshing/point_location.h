@@ -57,6 +57,11 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
 
 /// Generalized winding number of a closed surface at p: 1 inside, 0 outside
 /// (for an outward-oriented surface), 1/2 on it.
+/// The solid angle triangle (a, b, c) subtends at p, signed by its orientation
+/// (Van Oosterom and Strackee 1983), in steradians.
+double triangle_solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                            const Eigen::Vector3d& p);
+
 double winding_number(const SurfaceMesh& surface, const Eigen::Vector3d& p);
 
 }  // namespace tb

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "point_location.h"
+
 namespace tb {
 namespace {
 
@@ -43,7 +45,8 @@ int WindingNumberTree::build(int first, int count) {
   node.centre = area > 0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(0.5 * (lo + hi));
   for (int i = first; i < first + count; ++i)
     for (int k = 0; k < 3; ++k)
-      node.radius = std::max(node.radius, (V.row(F(order_[static_cast<size_t>(i)], k)).transpose() - node.centre).norm());
+      node.radius =
+          std::max(node.radius, (V.row(F(order_[static_cast<size_t>(i)], k)).transpose() - node.centre).norm());
   const int index = static_cast<int>(nodes_.size());
   nodes_.push_back(node);
   if (count > kLeafSize) {
@@ -69,13 +72,8 @@ double WindingNumberTree::exact(int first, int count, const Eigen::Vector3d& p) 
   double total = 0;
   for (int i = first; i < first + count; ++i) {
     const int t = order_[static_cast<size_t>(i)];
-    const Eigen::Vector3d a = surface_.V.row(surface_.F(t, 0)).transpose() - p,
-                          b = surface_.V.row(surface_.F(t, 1)).transpose() - p,
-                          c = surface_.V.row(surface_.F(t, 2)).transpose() - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double num = a.dot(b.cross(c));
-    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    total += 2 * std::atan2(num, den);
+    total += triangle_solid_angle(surface_.V.row(surface_.F(t, 0)), surface_.V.row(surface_.F(t, 1)),
+                                  surface_.V.row(surface_.F(t, 2)), p);
   }
   return total / (4 * M_PI);
 }
