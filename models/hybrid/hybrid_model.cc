@@ -58,7 +58,7 @@ class HybridModel : public Model {
     pinned_positions_ = Points::Zero(static_cast<Eigen::Index>(pinned_.size()), 3);
     apply_force_to_surface_ = p.parameters.choice("surface_force") == "applied";
     solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, fixed),
-                                            pbd::Settings::from(p.parameters));
+                                            pbd::Settings::from(p.parameters, p.material));
     u_ = Displacements::Zero(s.V.rows(), 3);
   }
 

@@ -14,7 +14,7 @@ class PbdModel : public Model {
     const SurfaceMesh& s = p.mesh->fine_surface;
     solver_ = std::make_unique<pbd::Solver>(
         s, pbd::inverse_masses(s, p.material.density, p.support.clamp(s.V, "fine surface")),
-        pbd::Settings::from(p.parameters));
+        pbd::Settings::from(p.parameters, p.material));
     u_ = Displacements::Zero(s.V.rows(), 3);
   }
 

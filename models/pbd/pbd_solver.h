@@ -12,6 +12,7 @@
 #include "constraints.h"
 #include "load_mapping.h"
 #include "mesh_types.h"
+#include "model.h"
 #include "parameters.h"
 #include "thread_team.h"
 
@@ -30,6 +31,14 @@ enum class Kernels { Simd, Reference };
 /// triangle's vertices by barycentric weights (as the FEM's P1 load is).
 enum class LoadSpread { NearestVertex, SurfaceTriangle };
 
+/// How a frame's constraints are solved: PBD's projections with stiffnesses in
+/// [0, 1] (paper 1.4), or XPBD (Macklin, Mueller, Chentanez 2016): a compliance per
+/// constraint derived from the material (xpbd_compliance.h) and a Lagrange
+/// multiplier per constraint accumulated over the frame's iterations (reset each
+/// frame), whose steady state does not depend on the iteration count. XPBD runs
+/// with the reference kernels only.
+enum class ConstraintSolve { Pbd, Xpbd };
+
 struct Settings {
   double time_step = 0.01;                              ///< s
   int iterations = 10;                                  ///< Gauss-Seidel sweeps per frame
@@ -45,7 +54,15 @@ struct Settings {
   Precision precision = Precision::Double;
   /// The sweep's vector instructions; none: best_instruction_set().
   std::optional<InstructionSet> instruction_set;
+  ConstraintSolve constraint_solve = ConstraintSolve::Pbd;
+  /// XPBD: the thickness h of the shell the surface stands for (m); 0: enclosed
+  /// volume / area (volume_preserving_thickness).
+  double shell_thickness = 0;
+  /// XPBD: Young's modulus and Poisson's ratio of the compliances (density is not used here).
+  Material material;
   static Settings from(const Parameters& p);
+  /// from(p), with the material XPBD derives its compliances from.
+  static Settings from(const Parameters& p, const Material& material);
 };
 
 /// Stretch constraints on every edge, bending constraints on every interior edge.
@@ -99,8 +116,17 @@ class Solver {
   double last_integration_ms() const { return integration_ms_; }
   /// What the projection ran with, for run.json: {"instruction_set": "avx512" |
   /// "avx" | "sse2" | "scalar" (reference kernels), "lanes": per batch, "precision",
-  /// "threads"}.
+  /// "threads", "constraint_solve": "pbd" | "xpbd"}, and with xpbd
+  /// "shell_thickness_m" (as used) and the stiffness range of each kind.
   nlohmann::json details() const;
+  /// XPBD: per-constraint compliances alpha (stretch m/N, bending 1/(N m)), one per
+  /// ConstraintSet row, and the Lagrange multipliers of the last frame; empty for PBD.
+  const Eigen::VectorXd& stretch_compliance() const { return stretch_alpha_; }
+  const Eigen::VectorXd& bending_compliance() const { return bending_alpha_; }
+  const Eigen::VectorXd& stretch_multipliers() const { return stretch_lambda_; }
+  const Eigen::VectorXd& bending_multipliers() const { return bending_lambda_; }
+  /// XPBD: the shell thickness the compliances were derived with (m); 0 for PBD.
+  double shell_thickness() const { return thickness_; }
 
  private:
   Points rest_, x_, v_;
@@ -115,8 +141,14 @@ class Solver {
   double k_stretch_, k_bend_;
   std::unique_ptr<ThreadTeam> team_;  // null with one thread
   double projection_ms_ = 0, integration_ms_ = 0;
+  // XPBD (empty for PBD): compliances, alpha / dt^2, and the multipliers, per constraint row.
+  Eigen::VectorXd stretch_alpha_, bending_alpha_, stretch_alpha_tilde_, bending_alpha_tilde_;
+  Eigen::VectorXd stretch_lambda_, bending_lambda_;
+  double thickness_ = 0;
   /// One sweep with the reference projections, in the batches' order.
   void reference_sweep(bool reverse);
+  /// One XPBD sweep (reference projections), in the batches' order.
+  void xpbd_sweep(bool reverse);
 };
 
 }  // namespace tb::pbd

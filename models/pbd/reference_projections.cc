@@ -89,26 +89,72 @@ bool paper_arccos_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const
   return true;
 }
 
-bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
-                     double w4, double rest_angle, double stiffness, Vec3 corr[4], BendingAngle kind) {
-  for (int i = 0; i < 4; ++i) corr[i].setZero();
+namespace {
+
+/// The bending constraint's value C, gradients grad C and denominator
+/// sum_j w_j |grad_j C|^2 as project_bending describes them; false when nothing
+/// can move (degenerate angle, or a denominator at or below kTiny or kNoiseGradient
+/// of its scale).
+bool bending_terms(const Vec3 p[4], const double w[4], double rest_angle, BendingAngle kind, double& C, Vec3 grad[4],
+                   double& denominator) {
   double theta;
-  Vec3 grad[4];
-  if (!dihedral_angle(p1, p2, p3, p4, theta, grad)) return false;
-  double C = theta - rest_angle;
+  if (!dihedral_angle(p[0], p[1], p[2], p[3], theta, grad)) return false;
+  C = theta - rest_angle;
   if (kind == BendingAngle::Unsigned) {  // eq. (19): C = |theta| - |theta0|, grad |theta| = sign(theta) grad theta
     C = std::abs(theta) - std::abs(rest_angle);
     if (theta < 0)
       for (int i = 0; i < 4; ++i) grad[i] = -grad[i];
   }
-  const double w[4] = {w1, w2, w3, w4};
-  double denominator = 0, largest = 0;
+  denominator = 0;
+  double largest = 0;
   for (int i = 0; i < 4; ++i) {
     denominator += w[i] * grad[i].squaredNorm();
     largest = std::max(largest, grad[i].squaredNorm());
   }
-  if (!(denominator > kTiny) || !(denominator > kNoiseGradient * (w1 + w2 + w3 + w4) * largest)) return false;
+  return denominator > kTiny && denominator > kNoiseGradient * (w[0] + w[1] + w[2] + w[3]) * largest;
+}
+
+}  // namespace
+
+bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+                     double w4, double rest_angle, double stiffness, Vec3 corr[4], BendingAngle kind) {
+  for (int i = 0; i < 4; ++i) corr[i].setZero();
+  const Vec3 p[4] = {p1, p2, p3, p4};
+  const double w[4] = {w1, w2, w3, w4};
+  double C, denominator;
+  Vec3 grad[4];
+  if (!bending_terms(p, w, rest_angle, kind, C, grad, denominator)) return false;
   for (int i = 0; i < 4; ++i) corr[i] = (-stiffness * C * w[i] / denominator) * grad[i];  // eq. (13) with masses
+  return true;
+}
+
+bool xpbd_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length, double alpha_tilde,
+                  double& lambda, Vec3& corr1, Vec3& corr2) {
+  corr1.setZero();
+  corr2.setZero();
+  const Vec3 d = p1 - p2;
+  const double length = d.norm();
+  if (!(w1 + w2 > 0) || !(length > kTiny)) return false;
+  const double C = length - rest_length;  // eq. (14)
+  const Vec3 grad1 = d / length;          // eq. (15), |grad1| = 1; eq. (16) is its negative
+  const double dlambda = (-C - alpha_tilde * lambda) / (w1 + w2 + alpha_tilde);  // XPBD eq. (18)
+  lambda += dlambda;
+  corr1 = (w1 * dlambda) * grad1;  // XPBD eq. (17): dp_i = w_i grad_i C dlambda
+  corr2 = (-w2 * dlambda) * grad1;
+  return true;
+}
+
+bool xpbd_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+                  double w4, double rest_angle, double alpha_tilde, double& lambda, Vec3 corr[4], BendingAngle kind) {
+  for (int i = 0; i < 4; ++i) corr[i].setZero();
+  const Vec3 p[4] = {p1, p2, p3, p4};
+  const double w[4] = {w1, w2, w3, w4};
+  double C, denominator;
+  Vec3 grad[4];
+  if (!bending_terms(p, w, rest_angle, kind, C, grad, denominator)) return false;
+  const double dlambda = (-C - alpha_tilde * lambda) / (denominator + alpha_tilde);  // XPBD eq. (18)
+  lambda += dlambda;
+  for (int i = 0; i < 4; ++i) corr[i] = (w[i] * dlambda) * grad[i];  // XPBD eq. (17)
   return true;
 }
 

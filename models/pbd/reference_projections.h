@@ -44,4 +44,19 @@ bool paper_arccos_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
                      double w4, double rest_angle, double stiffness, Vec3 corr[4], BendingAngle kind);
 
+/// XPBD (Macklin, Mueller, Chentanez 2016) updates of one constraint with
+/// compliance alpha (xpbd_compliance.h) and time step dt, alpha~ = alpha / dt^2
+/// (their eq. 4), and the constraint's Lagrange multiplier `lambda` accumulated
+/// over the frame's iterations (0 at the frame's start):
+///   dlambda = (-C - alpha~ lambda) / (sum_j w_j |grad_j C|^2 + alpha~)   (their eq. 18)
+///   dp_i = w_i grad_i C dlambda                                          (their eq. 17)
+/// and lambda += dlambda. C and grad C are the stretch constraint's (eqs. 14-16,
+/// |grad C| = 1) or the bending constraint's as `kind` says (project_bending).
+/// With alpha~ = 0 and lambda = 0 a step equals the PBD projection with stiffness 1.
+/// False (zero corrections, lambda unchanged) where the PBD projection moves nothing.
+bool xpbd_stretch(const Vec3& p1, double w1, const Vec3& p2, double w2, double rest_length, double alpha_tilde,
+                  double& lambda, Vec3& corr1, Vec3& corr2);
+bool xpbd_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+                  double w4, double rest_angle, double alpha_tilde, double& lambda, Vec3 corr[4], BendingAngle kind);
+
 }  // namespace tb::pbd::reference

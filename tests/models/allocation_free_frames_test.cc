@@ -54,6 +54,8 @@ std::vector<Case> every_model() {
   cases.push_back({"pbd", {{"kernels", "reference"}}});
   cases.push_back({"pbd", {{"precision", "single"}}});
   cases.push_back({"hybrid", {{"load_spread", "surface_triangle"}}});
+  cases.push_back({"pbd", {{"constraint_solve", "xpbd"}, {"kernels", "reference"}, {"bending_angle", "signed"}}});
+  cases.push_back({"hybrid", {{"constraint_solve", "xpbd"}, {"kernels", "reference"}, {"bending_angle", "signed"}}});
   return cases;
 }
 
