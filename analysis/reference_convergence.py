@@ -345,13 +345,13 @@ def figure(conv, cost, t1, out):
                  title="top-surface field against the finest level")
     for (np_, color) in ((1, "C2"), (2, "C3")):
         for order, marker in (("P1", "o"), ("P2", "s")):
-            rows = [r for r in cost if r["np"] == np_ and r["order"] == order and r["load"] == "disc"]
+            rows = [r for r in cost if r["np"] == np_ and r["order"] == order and r["load"] == "point"]
             if rows:
                 ax[1, 0].plot([r["dofs"] for r in rows], [r["wall_s"] for r in rows], color=color, marker=marker,
                               label=f"{order}, {np_} rank(s): wall s")
                 ax[1, 0].plot([r["dofs"] for r in rows], [r["peak_sum_gib"] for r in rows], color=color,
                               marker=marker, ls=":", mfc="none", label=f"{order}, {np_} rank(s): peak GiB")
-    ax[1, 0].set(xscale="log", yscale="log", xlabel="dofs", title="cost (disc load): wall time and peak memory")
+    ax[1, 0].set(xscale="log", yscale="log", xlabel="dofs", title="cost (point pull): wall time and peak memory")
     refs = []
     for r in t1:
         if r["reference"] not in refs:

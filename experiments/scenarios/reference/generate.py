@@ -7,25 +7,36 @@ surface, TetGen bounds, material, support), refined `refine_levels` times (the
 surface's triangles split in four per level, the volume bound / 8), under the
 paper's point force or the same force as a uniform traction on a 5 mm disc, as
 one static solve (no ramp). Cases: the linear FEM with P1 and P2 elements and
-the neo-Hookean FEM with P1, all distributed (mpirun -np N): P1 on levels 0-3
-(level 3: 10.3 million tets, the >= 10^6-dof solve), P2 and the neo-Hookean on
-levels 0-1. The 0.1 N scenarios stop at level 1.
+the neo-Hookean FEM with P1, all distributed (mpirun -np N), on these levels:
 
-Dropped when the study was first run (2 shared, heavily loaded cores, about
-100 minutes of wall time for the whole study), judged from the smaller levels:
-- P2 on level 2 (planned; about 4.9 million dofs, as many as P1 on level 3 with
-  about twice the matrix entries per row): P2 on level 1 (612,255 dofs) took
-  20 s assembly, 17 s AMG setup and 61 s of CG (108 iterations) at 1.9 GiB, so
-  level 2 would need about 8x that per case, six cases (pull/push, point/disc,
-  np 1 and 2), and likely more memory than the machine has beside P1 level 3.
+  1 N           P1 (linear)   P2 (linear)   P1 neo-Hookean
+  pull, point   0 1 2 3       0 1           0 1
+  pull, disc    0 1 2         0 1           0
+  push, point   0 1 2         0             0
+  push, disc    0             0             0
+  0.1 N: the neo-Hookean cases and their linear P1 counterparts.
+
+Level 3 (10.3 million tets, 5.2 million P1 dofs) is the >= 10^6-dof solve of the
+issue. Scenarios are listed, and run, level by level.
+
+Planned but dropped when the study was first run (2 cores shared with other
+jobs at a load average near 7, about 100 minutes of wall time for the study),
+judged from the smaller levels:
+- P2 on level 2 (about 4.9 million dofs, as many as P1 on level 3 with about
+  twice the matrix entries per row): P2 on level 1 (612,255 dofs) took 20 s
+  assembly, 17 s AMG setup and 61 s of CG (108 iterations) at 1.9 GiB with one
+  rank, 209 s of CG with two under that load; level 2 would be about 8x that.
 - The neo-Hookean on level 2 (planned for the disc loads and the 1 N point
-  pull): on level 0 (9342 dofs) the 1 N point pull took 37 Newton iterations
-  (547 CG iterations, an AMG setup per Newton step) in 10.2 s; level 2 has about
-  64x the dofs, so each of the five cases would take of the order of an hour.
-- Level 3 runs last (pull before push) so that what does not fit is the last
-  to go.
+  pull) and on level 1 except the point pulls: on level 0 (9342 dofs) the 1 N
+  point pull took 37 Newton iterations (547 CG iterations, an AMG setup per
+  Newton step) in 10.2 s, on level 1 over 5 minutes under that load; level 2
+  would take of the order of an hour per case.
+- Level 3 under the disc load and pushed, level 2 pushed under the disc, P2 on
+  level 1 pushed, and level 1 pushed under the disc (used by nothing once the
+  neo-Hookean level 1 push went): each level-3 solve takes tens of minutes here
+  and the one that stays (the point pull, np 1 and 2) is the one the issue asks
+  for and table 1 compares with. The disc load's finest level is 2.
 
-Run it again after editing; the files are committed as written.
 """
 import copy
 import json
@@ -34,10 +45,11 @@ import os
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 
-LEVELS = [0, 1, 2, 3]
-P2_LEVELS = [0, 1]
-NEO_LEVELS = [0, 1]  # all loads
-NEO_LEVEL_2 = []  # none: see the docstring
+# Levels of each case per (direction, load), at 1 N; 0.1 N: the neo-Hookean ones.
+P1_LEVELS = {("pull", "point"): [0, 1, 2, 3], ("pull", "disc"): [0, 1, 2], ("push", "point"): [0, 1, 2],
+             ("push", "disc"): [0]}
+P2_LEVELS = {("pull", "point"): [0, 1], ("pull", "disc"): [0, 1], ("push", "point"): [0], ("push", "disc"): [0]}
+NEO_LEVELS = {("pull", "point"): [0, 1], ("pull", "disc"): [0], ("push", "point"): [0], ("push", "disc"): [0]}
 DISC_RADIUS = 0.005  # m
 CG_TOLERANCE = 1e-10
 # Load increments of the neo-Hookean solve (halved on a failed Newton solve).
@@ -62,14 +74,11 @@ def scenario(base, level, direction, force, load):
     if load == "disc":
         s["load"]["disc_radius"] = DISC_RADIUS
     s["frames"] = {"max": 1, "static": 1}
-    models = []
-    if force == 1.0:
-        models.append(case("fem-p1", {"degree": 1}))
-        if level in P2_LEVELS:
-            models.append(case("fem-p2", {"degree": 2}))
-    else:
-        models.append(case("fem-p1", {"degree": 1}))
-    if level in NEO_LEVELS or (level == 2 and (load, force, direction) in NEO_LEVEL_2):
+    key = ("pull" if direction > 0 else "push", load)
+    models = [case("fem-p1", {"degree": 1})]
+    if force == 1.0 and level in P2_LEVELS[key]:
+        models.append(case("fem-p2", {"degree": 2}))
+    if level in NEO_LEVELS[key]:
         models.append(case("neo-p1", {"degree": 1, "material_law": "neo_hookean", "load_steps": NEO_LOAD_STEPS[force]}))
     s["models"] = models
     return s
@@ -78,21 +87,19 @@ def scenario(base, level, direction, force, load):
 def main():
     base = json.load(open(os.path.join(ROOT, "experiments", "scenarios", "cube-pull.json")))
     files = []
-    # Level 3 last (pull before push): the study runs the scenarios in this order.
-    for group in ([lv for lv in LEVELS if lv < 3], [lv for lv in LEVELS if lv >= 3]):
+    for level in range(4):
         for force in (1.0, 0.1):
             for direction in (1, -1):
                 for load in ("point", "disc"):
-                    for level in group:
-                        neo = level in NEO_LEVELS or (level == 2 and (load, force, direction) in NEO_LEVEL_2)
-                        if force != 1.0 and not neo:
-                            continue  # at 0.1 N only the neo-Hookean comparison
-                        s = scenario(base, level, direction, force, load)
-                        name = s["name"] + ".json"
-                        with open(os.path.join(HERE, name), "w") as f:
-                            json.dump(s, f, indent=2)
-                            f.write("\n")
-                        files.append("scenarios/reference/" + name)
+                    key = ("pull" if direction > 0 else "push", load)
+                    if level not in (P1_LEVELS[key] if force == 1.0 else NEO_LEVELS[key]):
+                        continue  # at 0.1 N only the neo-Hookean comparison
+                    s = scenario(base, level, direction, force, load)
+                    name = s["name"] + ".json"
+                    with open(os.path.join(HERE, name), "w") as f:
+                        json.dump(s, f, indent=2)
+                        f.write("\n")
+                    files.append("scenarios/reference/" + name)
     experiment = {
         "name": "reference_convergence",
         "description": "Issue 13: the fine FEM reference under refinement (P1, P2), point and disc loads, linear and "
