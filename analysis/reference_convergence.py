@@ -359,10 +359,10 @@ def figure(conv, cost, t1, out):
         if r["reference"] not in refs:
             refs.append(r["reference"])
     for model, color in (("hybrid", "C4"), ("pbd", "C5")):
-        for key, ls in (("corr_uz", "-"), ("load_ratio", "--")):
+        for key, ls, what in (("corr_uz", "-", "r(u_z)"), ("corr_uz_far", "--", "r(u_z) outside 1 cm")):
             rows = [r for r in t1 if r["model"] == model and r["direction"] == "pull"]
             ax[1, 1].plot([refs.index(r["reference"]) for r in rows], [r[key] for r in rows], color=color, ls=ls,
-                          marker="o", label=f"{model}: {'r(u_z)' if key == 'corr_uz' else '|u| ratio at load'}")
+                          marker="o", label=f"{model}: {what}")
     ax[1, 1].set_xticks(range(len(refs)))
     ax[1, 1].set_xticklabels(refs, rotation=30)
     ax[1, 1].set(title="table 1 (pull) against each reference", xlabel="reference (point load)")
