@@ -16,7 +16,7 @@ the neo-Hookean FEM with P1, all distributed (mpirun -np N), on these levels:
   push, disc    0             0             0
   0.1 N: the neo-Hookean cases and their linear P1 counterparts.
 
-Level 3 (10.3 million tets, 5.2 million P1 dofs) is the >= 10^6-dof solve of the
+Level 3 (10.3 million tets, 4.87 million P1 dofs) is the >= 10^6-dof solve of the
 issue. Scenarios are listed, and run, level by level.
 
 Planned but dropped when the study was first run (2 cores shared with other
@@ -25,7 +25,7 @@ judged from the smaller levels:
 - P2 on level 2 (about 4.9 million dofs, as many as P1 on level 3 with about
   twice the matrix entries per row): P2 on level 1 (612,255 dofs) took 20 s
   assembly, 17 s AMG setup and 61 s of CG (108 iterations) at 1.9 GiB with one
-  rank, 209 s of CG with two under that load; level 2 would be about 8x that.
+  rank; level 2 would be about 8x that per case.
 - The neo-Hookean on level 2 (planned for the disc loads and the 1 N point
   pull) and on level 1 except the point pulls: on level 0 (9342 dofs) the 1 N
   point pull took 37 Newton iterations (547 CG iterations, an AMG setup per
@@ -35,7 +35,8 @@ judged from the smaller levels:
   level 1 pushed, and level 1 pushed under the disc (used by nothing once the
   neo-Hookean level 1 push went): each level-3 solve takes tens of minutes here
   and the one that stays (the point pull, np 1 and 2) is the one the issue asks
-  for and table 1 compares with. The disc load's finest level is 2.
+  for and table 1 compares with. The disc load's finest solves are P1 on level
+  2 and P2 on level 1 (605,541 and 612,255 dofs).
 
 """
 import copy
