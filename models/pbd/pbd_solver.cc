@@ -25,40 +25,44 @@ const Eigen::VectorXd& one_per_vertex(const Eigen::VectorXd& inverse_mass, Eigen
 
 std::vector<ParameterSpec> parameter_specs() {
   using P = ParameterSpec;
+  const Settings d;  // each default stated once, in Settings
+  auto name_of = [](bool first, const char* a, const char* b) { return first ? a : b; };
   return {
-      P::number("time_step", 0.01, 1e-6, 1.0, "time step per frame, s"),
-      P::whole_number("iterations", 10, 1, 1000, "Gauss-Seidel projection sweeps per frame"),
-      P::number("stretch_stiffness", 1.0, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
-      P::number("bending_stiffness", 1.0, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
-      P::choice("stiffness_correction", {"mueller2007", "none"}, "mueller2007",
+      P::number("time_step", d.time_step, 1e-6, 1.0, "time step per frame, s"),
+      P::whole_number("iterations", d.iterations, 1, 1000, "Gauss-Seidel projection sweeps per frame"),
+      P::number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
+      P::number("bending_stiffness", d.bending_stiffness, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
+      P::choice("stiffness_correction", {"mueller2007", "none"}, name_of(d.correct_stiffness, "mueller2007", "none"),
                 "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given"),
-      P::number("damping", 0.05, 0.0, 1.0, "fraction of each vertex velocity removed per frame"),
-      P::choice("bending_angle", {"unsigned", "signed"}, "unsigned",
+      P::number("damping", d.damping, 0.0, 1.0, "fraction of each vertex velocity removed per frame"),
+      P::choice("bending_angle", {"unsigned", "signed"},
+                name_of(d.bending_angle == BendingAngle::Unsigned, "unsigned", "signed"),
                 "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
                 "signed: theta - theta0, smooth there"),
-      P::choice("load_spread", {"nearest_vertex", "surface_triangle"}, "nearest_vertex",
+      P::choice("load_spread", {"nearest_vertex", "surface_triangle"},
+                name_of(d.load_spread == LoadSpread::NearestVertex, "nearest_vertex", "surface_triangle"),
                 "where eq. (31) applies the load: nearest_vertex, the surface vertex nearest the load point (the "
                 "paper); surface_triangle, the nearest surface point, the force shared by its triangle's vertices "
                 "by barycentric weights (as the FEM's P1 load)"),
       P::choice(
-          "kernels", {"simd", "reference"}, "simd",
+          "kernels", {"simd", "reference"}, name_of(d.kernels == Kernels::Simd, "simd", "reference"),
           "simd: the batched vector kernels (projection_kernels.h); reference: the scalar projections written "
           "from eqs. (14)-(30) (reference_projections.h), one constraint at a time in the same order, one thread"),
-      P::whole_number("threads", 1, 1, 64,
+      P::whole_number("threads", d.threads, 1, 64,
                       "threads sweeping each colour's constraints (the result does not depend on it)"),
-      P::choice("precision", {"double", "single"}, "double",
+      P::choice("precision", {"double", "single"}, name_of(d.precision == Precision::Double, "double", "single"),
                 "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
                 "from double's by rounding, README)"),
       P::choice("instruction_set", {"auto", "sse2", "avx", "avx512"}, "auto",
                 "the sweep's vector instructions; auto: avx where the CPU has it, else sse2 (avx512 measured slower on "
                 "this project's AMD EPYC: only when asked); double precision gives the same numbers on every one"),
-      P::choice("constraint_solve", {"pbd", "xpbd"}, "pbd",
+      P::choice("constraint_solve", {"pbd", "xpbd"}, name_of(d.constraint_solve == ConstraintSolve::Pbd, "pbd", "xpbd"),
                 "pbd: the paper's projections with stretch_stiffness and bending_stiffness in [0, 1]; xpbd: Macklin, "
                 "Mueller, Chentanez 2016, compliance per constraint from the material (stretch k = E h A_e / L_e^2, "
                 "bending k = 3 D L_e^2 / A_e with D = E h^3 / (12 (1 - nu^2)); models/pbd/xpbd_compliance.h) and "
                 "Lagrange multipliers accumulated over the frame's iterations; needs kernels 'reference', "
                 "bending_angle 'signed' and the stiffnesses at 1"),
-      P::number("shell_thickness", 0.0, 0.0, 10.0,
+      P::number("shell_thickness", d.shell_thickness, 0.0, 10.0,
                 "xpbd: thickness h of the shell the surface stands for, m; 0: the body's enclosed volume / surface "
                 "area (a shell holding the body's volume; 1/6 of the side of a cube)"),
   };
