@@ -10,17 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "material.h"
 #include "mesh_types.h"
 #include "parameters.h"
 
 namespace tb {
-
-/// Linear isotropic elastic material, SI units.
-struct Material {
-  double youngs_modulus = 3000;  ///< Pa
-  double poisson_ratio = 0.45;
-  double density = 1000;  ///< kg/m^3
-};
 
 /// Vertices whose rest position lies in [min, max] (component-wise) are clamped.
 struct SupportBox {

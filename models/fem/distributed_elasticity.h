@@ -17,8 +17,8 @@
 #include <memory>
 #include <vector>
 
+#include "material.h"
 #include "mesh_types.h"
-#include "model.h"
 #include "surface_load.h"
 
 namespace tb {

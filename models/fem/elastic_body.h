@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "load_mapping.h"
+#include "material.h"
 #include "mesh_types.h"
-#include "model.h"
 
 namespace tb {
 

@@ -11,8 +11,8 @@
 #include "constraint_batches.h"
 #include "constraints.h"
 #include "load_mapping.h"
+#include "material.h"
 #include "mesh_types.h"
-#include "model.h"
 #include "parameters.h"
 #include "thread_team.h"
 

@@ -18,6 +18,7 @@
 #include "elastic_solve.h"
 #include "load_mapping.h"
 #include "mesh_checks.h"
+#include "model.h"
 #include "mpi_session.h"
 #include "surface_load.h"
 #include "test_support.h"

@@ -1,7 +1,5 @@
 // The FEM reference against exact solutions and physical invariants (issue 4).
-#include "elastic_body.h"
 #include "elastic_solve.h"
-#include "load_mapping.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +9,10 @@
 #include <sstream>
 
 #include "cube_generator.h"
+#include "elastic_body.h"
 #include "hybrid_builder.h"
+#include "load_mapping.h"
+#include "model.h"
 #include "stiffness_assembly.h"
 #include "supernodal_cholesky.h"
 #include "test_support.h"
