@@ -271,7 +271,8 @@ void Solver::use_instruction_set(InstructionSet isa) {
   isa_ = isa;
 }
 
-void Solver::reference_sweep(bool reverse) {
+template <class ProjectStretch, class ProjectBending>
+void Solver::scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending) {
   double* x = p_.data();
   auto P = [x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * Eigen::Index{v}); };
   const std::vector<int>& so = batches_.stretch_order();
@@ -279,46 +280,45 @@ void Solver::reference_sweep(bool reverse) {
     const int i = so[reverse ? so.size() - 1 - k : k];
     const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
     Vec3 ca, cb;
-    reference::project_stretch(P(a), w_(a), P(b), w_(b), c_.stretch_rest(i), k_stretch_, ca, cb);
+    stretch(i, P(a), w_(a), P(b), w_(b), ca, cb);
     P(a) += ca;
     P(b) += cb;
   }
-  if (k_bend_ <= 0) return;
+  if (!with_bending) return;
   const std::vector<int>& bo = batches_.bending_order();
   for (size_t k = 0; k < bo.size(); ++k) {
     const int i = bo[reverse ? bo.size() - 1 - k : k];
     int q[4];
     for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
     Vec3 corr[4];
-    reference::project_bending(P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]),
-                               c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
+    bending(i, P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]), corr);
     for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
   }
 }
 
+void Solver::reference_sweep(bool reverse) {
+  scalar_sweep(
+      reverse, k_bend_ > 0,
+      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
+        reference::project_stretch(a, wa, b, wb, c_.stretch_rest(i), k_stretch_, ca, cb);
+      },
+      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+             double w4, Vec3* corr) {
+        reference::project_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
+      });
+}
+
 void Solver::xpbd_sweep(bool reverse) {
-  double* x = p_.data();
-  auto P = [x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * Eigen::Index{v}); };
-  const std::vector<int>& so = batches_.stretch_order();
-  for (size_t k = 0; k < so.size(); ++k) {
-    const int i = so[reverse ? so.size() - 1 - k : k];
-    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
-    Vec3 ca, cb;
-    reference::xpbd_stretch(P(a), w_(a), P(b), w_(b), c_.stretch_rest(i), stretch_alpha_tilde_(i), stretch_lambda_(i),
-                            ca, cb);
-    P(a) += ca;
-    P(b) += cb;
-  }
-  const std::vector<int>& bo = batches_.bending_order();
-  for (size_t k = 0; k < bo.size(); ++k) {
-    const int i = bo[reverse ? bo.size() - 1 - k : k];
-    int q[4];
-    for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
-    Vec3 corr[4];
-    reference::xpbd_bending(P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]),
-                            c_.bending_rest(i), bending_alpha_tilde_(i), bending_lambda_(i), corr, s_.bending_angle);
-    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
-  }
+  scalar_sweep(
+      reverse, true,
+      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
+        reference::xpbd_stretch(a, wa, b, wb, c_.stretch_rest(i), stretch_alpha_tilde_(i), stretch_lambda_(i), ca, cb);
+      },
+      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+             double w4, Vec3* corr) {
+        reference::xpbd_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), bending_alpha_tilde_(i),
+                                bending_lambda_(i), corr, s_.bending_angle);
+      });
 }
 
 }  // namespace tb::pbd

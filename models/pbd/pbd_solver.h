@@ -147,6 +147,11 @@ class Solver {
   double thickness_ = 0;
   /// One sweep with the reference projections, in the batches' order.
   void reference_sweep(bool reverse);
+  /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
+  /// stretch(i, p_a, w_a, p_b, w_b, corr_a, corr_b) for each stretch constraint i,
+  /// then bending(i, p1, w1, ..., p4, w4, corr[4]) for each bending constraint.
+  template <class ProjectStretch, class ProjectBending>
+  void scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending);
   /// One XPBD sweep (reference projections), in the batches' order.
   void xpbd_sweep(bool reverse);
 };
