@@ -11,6 +11,15 @@
 
 namespace tb::testing {
 
+std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
+                                    const nlohmann::json& parameters) {
+  const ModelInfo& info = find_model(name);
+  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
+  auto m = info.create();
+  m->setup(p);
+  return m;
+}
+
 const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume, bool symmetric_fine_volume) {
   static std::map<std::tuple<std::string, bool, bool>, std::unique_ptr<HybridMesh>> cache;
   auto& m = cache[{name, with_fine_volume, symmetric_fine_volume}];

@@ -6,11 +6,23 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "mesh_types.h"
+#include "model.h"
 
 namespace tb::testing {
+
+/// The support of the paper's cube scenarios: the bottom face z = 0 clamped.
+inline const SupportBox kCubeBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
+
+/// The registered model `name` set up on `mesh` with the default material,
+/// `support` and `parameters` (resolved against its specs).
+std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh,
+                                    const SupportBox& support = kCubeBottom,
+                                    const nlohmann::json& parameters = nlohmann::json::object());
 
 /// A fresh folder under the system temp dir, removed at destruction.
 struct TempFolder {

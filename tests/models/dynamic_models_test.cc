@@ -16,12 +16,7 @@ namespace {
 const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
 
 std::unique_ptr<Model> make(const std::string& name, const nlohmann::json& params = {}) {
-  const ModelInfo& info = find_model(name);
-  Problem p{&cube(), Material{}, SupportBox{{-1, -1, -1e-9}, {1, 1, 1e-9}},
-            resolve_parameters(info.parameters, params, name)};
-  auto m = info.create();
-  m->setup(p);
-  return m;
+  return testing::set_up_model(name, cube(), testing::kCubeBottom, params);
 }
 
 class DynamicModel : public ::testing::TestWithParam<std::string> {};

@@ -16,12 +16,7 @@ namespace tb {
 namespace {
 
 std::unique_ptr<Model> set_up(const std::string& name, const nlohmann::json& parameters) {
-  const ModelInfo& info = find_model(name);
-  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, SupportBox{{-1, -1, -1e-9}, {1, 1, 1e-9}},
-            resolve_parameters(info.parameters, parameters, name)};
-  auto model = info.create();
-  model->setup(p);
-  return model;
+  return testing::set_up_model(name, testing::scenario_mesh("cube-pull"), testing::kCubeBottom, parameters);
 }
 
 std::string step_error(Model& model, double disc_radius) {

@@ -11,11 +11,7 @@ namespace {
 
 std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
                             const nlohmann::json& params = {}) {
-  const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, params, name)};
-  auto m = info.create();
-  m->setup(p);
-  return m;
+  return testing::set_up_model(name, mesh, support, params);
 }
 
 struct Case {

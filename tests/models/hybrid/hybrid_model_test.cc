@@ -17,11 +17,7 @@ const SupportBox kBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
 const PointLoad kPull{{0, 0, 0.1}, {0, 0, 1}};
 
 std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const nlohmann::json& params = {}) {
-  const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, kBottom, resolve_parameters(info.parameters, params, name)};
-  auto m = info.create();
-  m->setup(p);
-  return m;
+  return testing::set_up_model(name, mesh, kBottom, params);
 }
 
 const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
