@@ -74,14 +74,45 @@ std::vector<int> colour_order(const VertexRows<N>& vertices, const std::vector<i
   return order;
 }
 
+/// Colour ids of group g are g * kColoursPerGroup + (its colour), so that no two
+/// groups share a colour and pack() closes a batch and a colour at a group's end.
+constexpr int kColoursPerGroup = kOverflowColour + 1;
+
+/// `kept` ordered group by group (domain 0, 1, ..., then the interface: the
+/// constraints whose vertices lie in several domains), each group coloured by
+/// colour_order. With no `vertex_domain`, one group: colour_order itself.
+template <int N>
+std::vector<int> grouped_colour_order(const VertexRows<N>& vertices, const std::vector<int>& kept, size_t vertex_count,
+                                      const std::vector<int>& vertex_domain, int domains,
+                                      std::vector<int>& colour_of_ordered) {
+  if (vertex_domain.empty()) return colour_order(vertices, kept, vertex_count, colour_of_ordered);
+  std::vector<std::vector<int>> groups(static_cast<size_t>(domains) + 1);
+  for (int i : kept) {
+    const int d = vertex_domain[static_cast<size_t>(vertices(i, 0))];
+    bool inside = true;
+    for (int j = 1; j < N; ++j) inside = inside && vertex_domain[static_cast<size_t>(vertices(i, j))] == d;
+    groups[inside ? static_cast<size_t>(d) : groups.size() - 1].push_back(i);
+  }
+  std::vector<int> order, colours;
+  colour_of_ordered.clear();
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::vector<int> part = colour_order(vertices, groups[g], vertex_count, colours);
+    order.insert(order.end(), part.begin(), part.end());
+    for (int c : colours) colour_of_ordered.push_back(static_cast<int>(g) * kColoursPerGroup + c);
+  }
+  return order;
+}
+
 /// Consecutive constraints of `order` packed into batches of `width` lanes; a
 /// batch closes when it is full, when the next constraint shares a vertex with it
 /// or is of another colour. Padding lanes repeat lane 0's first vertex in every
 /// slot with inverse mass 0: degenerate, so their corrections are zero.
+///   groups  domains + 1 (the colour ids' groups: grouped_colour_order)
 template <int N>
 Layout pack(const VertexRows<N>& vertices, const std::vector<int>& order, const std::vector<int>& colour,
-            size_t vertex_count, int width) {
+            size_t vertex_count, int width, int groups) {
   std::vector<size_t> last_batch(vertex_count, SIZE_MAX);  // the last batch using each vertex
+  std::vector<int> group_of_colour;
   Layout b;
   const size_t W = static_cast<size_t>(width);
   for (size_t k = 0; k < order.size(); ++k) {
@@ -89,7 +120,10 @@ Layout pack(const VertexRows<N>& vertices, const std::vector<int>& order, const 
     const bool new_colour = k == 0 || colour[k] != colour[k - 1];
     bool fits = !new_colour && b.count.back() < width;
     for (int j = 0; j < N && fits; ++j) fits = last_batch[static_cast<size_t>(vertices(i, j))] != b.count.size() - 1;
-    if (new_colour) b.colours.begin.push_back(b.count.size());
+    if (new_colour) {
+      b.colours.begin.push_back(b.count.size());
+      group_of_colour.push_back(colour[k] / kColoursPerGroup);
+    }
     if (!fits) {
       b.count.push_back(0);
       b.q.resize(b.q.size() + N * W, -1);
@@ -103,7 +137,12 @@ Layout pack(const VertexRows<N>& vertices, const std::vector<int>& order, const 
     }
   }
   b.colours.begin.push_back(b.count.size());
-  b.colours.last_shares_vertices = !colour.empty() && colour.back() == kOverflowColour;
+  for (int g = 0; g <= groups; ++g)
+    b.group_begin.push_back(static_cast<size_t>(std::lower_bound(group_of_colour.begin(), group_of_colour.end(), g) -
+                                                group_of_colour.begin()));
+  // Only the last (interface) group is split between threads colour by colour.
+  b.colours.last_shares_vertices =
+      !colour.empty() && colour.back() == (groups - 1) * kColoursPerGroup + kOverflowColour;
   for (size_t batch = 0; batch < b.count.size(); ++batch)
     for (size_t l = static_cast<size_t>(b.count[batch]); l < W; ++l)
       for (size_t j = 0; j < N; ++j) b.q[(batch * N + j) * W + l] = b.q[batch * N * W];
@@ -341,8 +380,23 @@ TB_PBD_INLINE void project_batch(const typename LaneTraits<L>::S* x, const Layou
 /// bending colours hold 122, 50, 21, 13, 7, 4 and 1 batches of eight).
 constexpr size_t kMinBatchesPerMember = 16;
 
-/// One member's part of a sweep over one kind of constraint: of each colour (in
-/// order, or reversed), its share of the batches, then a barrier. A colour whose
+/// Projects batches [begin, end) in order (or reversed), each written back before the next.
+template <class L, int N>
+TB_PBD_INLINE void sweep_range(const SweepArgs<typename LaneTraits<L>::S>& a, const Layout& layout,
+                               const Numbers<typename LaneTraits<L>::S>& n, double k, size_t begin, size_t end,
+                               bool reverse) {
+  constexpr size_t W = LaneTraits<L>::W;
+  for (size_t i = begin; i < end; ++i) {
+    const size_t b = reverse ? end - 1 - (i - begin) : i;
+    Triple<L> p[N], corr[N];
+    project_batch<L, N>(a.x, layout, n, b, k, a.kind, p, corr);
+    for (size_t j = 0; j < N; ++j) scatter_corrected(a.x, &layout.q[(b * N + j) * W], layout.count[b], p[j], corr[j]);
+  }
+}
+
+/// One member's part of a sweep over the interface group of one kind of
+/// constraint (everything, with no domains): of each colour (in order, or
+/// reversed), its share of the batches, then a barrier. A colour whose
 /// constraints may share vertices, or a small one, is swept by member 0 alone, and
 /// consecutive such colours need no barrier between them (one thread, in order).
 /// Who sweeps what never changes the result: within a colour the constraints are
@@ -351,31 +405,53 @@ template <class L, int N>
 TB_PBD_INLINE void sweep_colours(const SweepArgs<typename LaneTraits<L>::S>& a, const Layout& layout,
                                  const Numbers<typename LaneTraits<L>::S>& n, double k, bool reverse, int member,
                                  int members) {
-  constexpr size_t W = LaneTraits<L>::W;
-  const size_t colour_count = layout.colours.begin.size() - 1;
+  const size_t first = layout.group_begin[layout.domain_count()], colour_end = layout.group_begin.back();
+  const size_t colour_count = colour_end - first;
   auto size = [&](size_t colour) { return layout.colours.begin[colour + 1] - layout.colours.begin[colour]; };
   auto alone = [&](size_t colour) {
-    return members == 1 || (layout.colours.last_shares_vertices && colour == colour_count - 1) ||
+    return members == 1 || (layout.colours.last_shares_vertices && colour == colour_end - 1) ||
            size(colour) < kMinBatchesPerMember * static_cast<size_t>(members);
   };
   for (size_t c = 0; c < colour_count; ++c) {
-    const size_t colour = reverse ? colour_count - 1 - c : c;
+    const size_t colour = first + (reverse ? colour_count - 1 - c : c);
     const size_t begin = layout.colours.begin[colour], count = size(colour);
     const bool by_one = alone(colour);
     const size_t from = by_one ? (member == 0 ? 0 : count) : count * static_cast<size_t>(member) / members,
                  to = by_one ? count : count * static_cast<size_t>(member + 1) / members;
-    for (size_t i = from; i < to; ++i) {
-      const size_t b = begin + (reverse ? to - 1 - (i - from) : i);
-      Triple<L> p[N], corr[N];
-      project_batch<L, N>(a.x, layout, n, b, k, a.kind, p, corr);
-      for (size_t j = 0; j < N; ++j) scatter_corrected(a.x, &layout.q[(b * N + j) * W], layout.count[b], p[j], corr[j]);
-    }
+    sweep_range<L, N>(a, layout, n, k, begin + from, begin + to, reverse);
     // The next colour may start when every member is done with this one, unless
     // member 0 sweeps both (the next kind of constraint or sweep: always a barrier).
     const bool last = c + 1 == colour_count;
     const size_t next = reverse ? colour - 1 : colour + 1;
     if (members > 1 && (last || !by_one || !alone(next))) a.team->barrier();
   }
+}
+
+/// One member's part of a sweep over the domains of one kind of constraint:
+/// domains member, member + members, ..., each whole (its batches in order, or
+/// reversed), then a barrier. Domains share no vertex, so who sweeps which does
+/// not change the result.
+template <class L, int N>
+TB_PBD_INLINE void sweep_domains(const SweepArgs<typename LaneTraits<L>::S>& a, const Layout& layout,
+                                 const Numbers<typename LaneTraits<L>::S>& n, double k, bool reverse, int member,
+                                 int members) {
+  const size_t domains = layout.domain_count();
+  for (size_t d = static_cast<size_t>(member); d < domains; d += static_cast<size_t>(members))
+    sweep_range<L, N>(a, layout, n, k, layout.colours.begin[layout.group_begin[d]],
+                      layout.colours.begin[layout.group_begin[d + 1]], reverse);
+  if (members > 1) a.team->barrier();
+}
+
+/// One member's part of a sweep over one kind of constraint in the batches'
+/// order (domains, then the interface), or reversed.
+template <class L, int N>
+TB_PBD_INLINE void sweep_kind(const SweepArgs<typename LaneTraits<L>::S>& a, const Layout& layout,
+                              const Numbers<typename LaneTraits<L>::S>& n, double k, bool reverse, int member,
+                              int members) {
+  const bool domains = layout.domain_count() > 0;
+  if (domains && !reverse) sweep_domains<L, N>(a, layout, n, k, reverse, member, members);
+  sweep_colours<L, N>(a, layout, n, k, reverse, member, members);
+  if (domains && reverse) sweep_domains<L, N>(a, layout, n, k, reverse, member, members);
 }
 
 /// Member `member`'s part of every sweep, compiled once per instruction set and
@@ -385,8 +461,8 @@ TB_PBD_INLINE void sweep_batches(const SweepArgs<typename LaneTraits<L>::S>& a, 
   const int members = a.team ? a.team->size() : 1;
   for (int it = 0; it < a.iterations; ++it) {
     const bool reverse = a.first_reverse != (it % 2 == 1);
-    sweep_colours<L, 2>(a, a.stretch, a.stretch_numbers, a.k_stretch, reverse, member, members);
-    if (a.k_bend > 0) sweep_colours<L, 4>(a, a.bending, a.bending_numbers, a.k_bend, reverse, member, members);
+    sweep_kind<L, 2>(a, a.stretch, a.stretch_numbers, a.k_stretch, reverse, member, members);
+    if (a.k_bend > 0) sweep_kind<L, 4>(a, a.bending, a.bending_numbers, a.k_bend, reverse, member, members);
   }
 }
 
@@ -519,16 +595,22 @@ int batch_width(InstructionSet isa, Precision precision) {
   return std::max(4, bytes / (precision == Precision::Single ? 4 : 8));  // SSE2 double: four as two registers
 }
 
-ConstraintBatches::ConstraintBatches(const ConstraintSet& c, const Eigen::VectorXd& w, int width, Precision precision)
+ConstraintBatches::ConstraintBatches(const ConstraintSet& c, const Eigen::VectorXd& w, int width, Precision precision,
+                                     const std::vector<int>& vertex_domain)
     : width_(width), precision_(precision), stretch_rows_(c.stretch.rows()), bending_rows_(c.bending.rows()) {
   if (width != 4 && width != 8 && width != 16)
     throw std::invalid_argument("PBD constraint batches: 4, 8 or 16 lanes, not " + std::to_string(width));
   const size_t vertex_count = static_cast<size_t>(w.size());
+  if (!vertex_domain.empty() && vertex_domain.size() != vertex_count)
+    throw std::invalid_argument("PBD constraint batches: one domain per vertex expected");
+  const int domains = vertex_domain.empty() ? 0 : *std::max_element(vertex_domain.begin(), vertex_domain.end()) + 1;
+  if (!vertex_domain.empty() && *std::min_element(vertex_domain.begin(), vertex_domain.end()) < 0)
+    throw std::invalid_argument("PBD constraint batches: negative vertex domain");
   std::vector<int> colour;
-  stretch_order_ = colour_order(c.stretch, movable(c.stretch, w), vertex_count, colour);
-  stretch_ = pack(c.stretch, stretch_order_, colour, vertex_count, width);
-  bending_order_ = colour_order(c.bending, movable(c.bending, w), vertex_count, colour);
-  bending_ = pack(c.bending, bending_order_, colour, vertex_count, width);
+  stretch_order_ = grouped_colour_order(c.stretch, movable(c.stretch, w), vertex_count, vertex_domain, domains, colour);
+  stretch_ = pack(c.stretch, stretch_order_, colour, vertex_count, width, domains + 1);
+  bending_order_ = grouped_colour_order(c.bending, movable(c.bending, w), vertex_count, vertex_domain, domains, colour);
+  bending_ = pack(c.bending, bending_order_, colour, vertex_count, width, domains + 1);
   if (precision == Precision::Double) {
     stretch_double_ = numbers<double, 2>(stretch_, stretch_order_, c.stretch_rest, w, width);
     bending_double_ = numbers<double, 4>(bending_, bending_order_, c.bending_rest, w, width);

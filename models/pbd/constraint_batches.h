@@ -89,10 +89,15 @@ class ConstraintBatches {
   /// Keeps the constraints that can move something (one of their vertices has
   /// inverse mass > 0), orders them by a greedy graph colouring and packs
   /// consecutive independent ones into batches of `width` lanes (batch_width) for
-  /// sweeps in `precision`.
-  ///   inverse_mass  #V
+  /// sweeps in `precision`. With `vertex_domain` (domain_partition.h), each kind's
+  /// order is domain 0's constraints (those with every vertex in domain 0)
+  /// coloured, then domain 1's, ..., then the interface's (the rest) coloured: a
+  /// thread sweeps a whole domain with no barrier (project()).
+  ///   inverse_mass   #V
+  ///   vertex_domain  #V domain indices, or empty: one domain, every constraint
+  ///                  in the colour-by-colour group
   ConstraintBatches(const ConstraintSet& constraints, const Eigen::VectorXd& inverse_mass, int width = 4,
-                    Precision precision = Precision::Double);
+                    Precision precision = Precision::Double, const std::vector<int>& vertex_domain = {});
 
   int width() const { return width_; }
   Precision precision() const { return precision_; }
@@ -109,8 +114,9 @@ class ConstraintBatches {
              InstructionSet isa) const;
 
   /// `iterations` sweeps, alternately forward and reverse (symmetric Gauss-Seidel),
-  /// each colour's batches split between the members of `team` (null: this thread
-  /// alone). The result is bitwise the same for any team size.
+  /// the domains shared out between the members of `team` (null: this thread
+  /// alone), a barrier, then each interface colour's batches split between them.
+  /// The result is bitwise the same for any team size.
   void project(double* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind,
                InstructionSet isa, ThreadTeam* team) const;
   void project(float* positions, int iterations, double k_stretch, double k_bend, BendingAngle kind, InstructionSet isa,
@@ -133,8 +139,8 @@ class ConstraintBatches {
 
   /// Where each colour's batches start (begin.back() = batch count). A vertex of
   /// valence beyond the colouring's 64 colours sends constraints to a last colour
-  /// whose members may share vertices: then `last_shares_vertices`, and one thread
-  /// sweeps it.
+  /// (of its group) whose members may share vertices: in the interface group then
+  /// `last_shares_vertices`, and one thread sweeps it.
   struct Colours {
     std::vector<size_t> begin;
     bool last_shares_vertices = false;
@@ -144,6 +150,11 @@ class ConstraintBatches {
   /// (inverse masses 0, vertices of lane 0), computed but not written back.
   struct Layout {
     Colours colours;
+    /// Where each group of colours starts (indices into colours.begin): groups
+    /// 0 .. domains - 1 are the domains, the last the interface (everything when
+    /// there is no partition); group_begin.back() = colour count.
+    std::vector<size_t> group_begin;
+    size_t domain_count() const { return group_begin.size() - 2; }
     std::vector<int> count;  ///< #batches
     std::vector<int> q;      ///< #batches by slots by width vertex indices
     size_t batch_count() const { return count.size(); }

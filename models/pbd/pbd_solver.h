@@ -50,6 +50,12 @@ struct Settings {
   LoadSpread load_spread = LoadSpread::NearestVertex;
   Kernels kernels = Kernels::Simd;
   int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
+  /// Spatial domains of the sweep's order (domain_partition.h): 1, the colouring
+  /// of every constraint (the paper's tables); more, each domain's constraints
+  /// coloured, then the interface's, so that threads sweep whole domains between
+  /// two barriers. Changes the Gauss-Seidel order (so the bits), not the thread
+  /// count's independence.
+  int domains = 1;
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
   Precision precision = Precision::Double;
   /// The sweep's vector instructions; none: best_instruction_set().

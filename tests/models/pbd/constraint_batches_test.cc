@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
+#include "domain_partition.h"
 #include "load_mapping.h"
 #include "pbd_solver.h"
 #include "projection_kernels.h"
@@ -295,31 +297,126 @@ TEST(ConstraintBatches, ProjectionIsBitwiseTheSameOnAnyNumberOfThreads) {
 TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
   const DisturbedCube cube;
   const LoadStencil load_vertex = nearest_vertex(cube.surface.V, Vec3(0, 0, 0.1));
-  for (Precision precision : {Precision::Double, Precision::Single}) {
-    Points reference;
-    for (int threads : {1, 2, 4}) {
-      Settings s;
-      s.threads = threads;
-      s.precision = precision;
-      Solver solver(cube.surface, cube.inverse_mass, s);
-      // Pins as in the hybrid: a few vertices moved each frame.
-      const std::vector<int> pinned = {load_vertex.nodes(0) + 1, load_vertex.nodes(0) + 2};
-      Points pinned_positions(2, 3);
-      for (int f = 0; f < 30; ++f) {
-        for (int k = 0; k < 2; ++k)
-          pinned_positions.row(k) =
-              cube.surface.V.row(pinned[static_cast<size_t>(k)]) + Eigen::RowVector3d(0, 0, 1e-4 * f);
-        solver.step(load_vertex, Vec3(0, 0, 1), pinned, pinned_positions);
+  for (Precision precision : {Precision::Double, Precision::Single})
+    for (int domains : {1, 2}) {
+      Points reference;
+      for (int threads : {1, 2, 4}) {
+        Settings s;
+        s.threads = threads;
+        s.domains = domains;
+        s.precision = precision;
+        Solver solver(cube.surface, cube.inverse_mass, s);
+        // Pins as in the hybrid: a few vertices moved each frame.
+        const std::vector<int> pinned = {load_vertex.nodes(0) + 1, load_vertex.nodes(0) + 2};
+        Points pinned_positions(2, 3);
+        for (int f = 0; f < 30; ++f) {
+          for (int k = 0; k < 2; ++k)
+            pinned_positions.row(k) =
+                cube.surface.V.row(pinned[static_cast<size_t>(k)]) + Eigen::RowVector3d(0, 0, 1e-4 * f);
+          solver.step(load_vertex, Vec3(0, 0, 1), pinned, pinned_positions);
+        }
+        if (threads == 1)
+          reference = solver.positions();
+        else
+          EXPECT_EQ((solver.positions() - reference).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+        EXPECT_EQ(solver.details()["threads"], threads);
+        EXPECT_EQ(solver.details()["precision"], name(precision));
+        EXPECT_EQ(solver.details()["domains"], domains);
       }
-      if (threads == 1)
-        reference = solver.positions();
-      else
-        EXPECT_EQ((solver.positions() - reference).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
-      EXPECT_EQ(solver.details()["threads"], threads);
-      EXPECT_EQ(solver.details()["precision"], name(precision));
+      EXPECT_GT((reference - cube.surface.V).cwiseAbs().maxCoeff(), 1e-4);
     }
-    EXPECT_GT((reference - cube.surface.V).cwiseAbs().maxCoeff(), 1e-4);
+}
+
+/// With a partition into domains: each domain's group holds only constraints
+/// with every vertex in that domain, the interface group only constraints across
+/// domains; the sweep still equals one-at-a-time projection in the batches' order
+/// and is bitwise the same on any number of threads.
+TEST(ConstraintBatches, DomainsAreIndependentAndTheirSweepIsBitwiseTheSameOnAnyThreads) {
+  const DisturbedCube cube;
+  for (int domains : {2, 3, 5}) {
+    const std::vector<int> domain = bisect_into_domains(cube.surface.V, domains);
+    for (InstructionSet isa : instruction_sets()) {
+      const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double),
+                                      Precision::Double, domain);
+      for (const auto* layout : {&batches.stretch_layout(), &batches.bending_layout()}) {
+        const bool stretch = layout == &batches.stretch_layout();
+        const std::vector<int>& order = stretch ? batches.stretch_order() : batches.bending_order();
+        ASSERT_EQ(layout->domain_count(), static_cast<size_t>(domains));
+        size_t next = 0, interface = 0;
+        for (size_t g = 0; g <= layout->domain_count(); ++g) {
+          const size_t end = layout->colours.begin[layout->group_begin[g + 1]];
+          for (size_t b = layout->colours.begin[layout->group_begin[g]]; b < end; ++b)
+            for (int l = 0; l < layout->count[b]; ++l, ++next) {
+              std::set<int> touched;
+              for (int j = 0; j < (stretch ? 2 : 4); ++j)
+                touched.insert(domain[static_cast<size_t>(stretch ? cube.constraints.stretch(order[next], j)
+                                                                  : cube.constraints.bending(order[next], j))]);
+              if (g < layout->domain_count()) {
+                EXPECT_EQ(touched, std::set<int>{static_cast<int>(g)}) << "domain " << g;
+              } else {
+                EXPECT_GT(touched.size(), 1u) << "interface";
+                ++interface;
+              }
+            }
+        }
+        EXPECT_EQ(next, order.size());
+        // Bisection planes cut few edges: the interface is a small part, growing
+        // with the cuts (on the paper's 682-vertex cube).
+        EXPECT_LT(interface, order.size() * static_cast<size_t>(domains - 1) / 10) << domains << " domains";
+        RecordProperty((stretch ? "stretch_interface_" : "bending_interface_") + std::to_string(domains),
+                       std::to_string(interface) + " of " + std::to_string(order.size()));
+      }
+      PaddedPoints start = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+      start.leftCols<3>() = cube.positions;
+      Eigen::Matrix<double, -1, 3, Eigen::RowMajor> sequential = cube.positions;
+      PaddedPoints one = start;
+      batches.project(one.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+      for (int sweep = 0; sweep < 4; ++sweep)
+        sequential_sweep<double>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned);
+      EXPECT_EQ((one.leftCols<3>() - sequential).cwiseAbs().maxCoeff(), 0.0) << domains << " domains";
+      for (int threads : {2, 3, 4}) {
+        ThreadTeam team(threads);
+        PaddedPoints many = start;
+        batches.project(many.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+        EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << domains << " domains";
+      }
+    }
   }
+  EXPECT_THROW(ConstraintBatches(cube.constraints, cube.inverse_mass, 4, Precision::Double, std::vector<int>(3, 0)),
+               std::invalid_argument);
+}
+
+TEST(DomainPartition, BisectionGivesBalancedDeterministicSpatialDomains) {
+  const DisturbedCube cube;
+  const Eigen::Index n = cube.surface.V.rows();
+  for (int domains : {1, 2, 3, 4, 7}) {
+    const std::vector<int> d = bisect_into_domains(cube.surface.V, domains);
+    ASSERT_EQ(d.size(), static_cast<size_t>(n));
+    std::vector<int> size(static_cast<size_t>(domains), 0);
+    for (int v : d) {
+      ASSERT_GE(v, 0);
+      ASSERT_LT(v, domains);
+      ++size[static_cast<size_t>(v)];
+    }
+    EXPECT_LE(*std::max_element(size.begin(), size.end()) - *std::min_element(size.begin(), size.end()), 1);
+    EXPECT_EQ(d, bisect_into_domains(cube.surface.V, domains));
+  }
+  // Two domains: a plane across one axis separates them (every vertex of domain
+  // 0 at or below every vertex of domain 1 along it).
+  const std::vector<int> two = bisect_into_domains(cube.surface.V, 2);
+  bool separated = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    double domain0_top = -INFINITY, domain1_bottom = INFINITY;
+    for (Eigen::Index v = 0; v < n; ++v) {
+      if (two[static_cast<size_t>(v)] == 0)
+        domain0_top = std::max(domain0_top, cube.surface.V(v, axis));
+      else
+        domain1_bottom = std::min(domain1_bottom, cube.surface.V(v, axis));
+    }
+    separated = separated || domain0_top <= domain1_bottom;
+  }
+  EXPECT_TRUE(separated);
+  EXPECT_THROW(bisect_into_domains(cube.surface.V, 0), std::invalid_argument);
 }
 
 TEST(ConstraintBatches, ConstraintOnAVertexWithoutInverseMassIsAnError) {
