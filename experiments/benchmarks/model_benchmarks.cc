@@ -222,11 +222,13 @@ void BM_HybridCoarseSolve(benchmark::State& state) {
 }
 
 /// PBD cost against surface size: range(0) divisions per cube side, range(1)
-/// threads sweeping each colour, range(2) 1 for a single-precision sweep.
+/// threads sweeping each colour, range(2) 1 for a single-precision sweep, range(3)
+/// the sweep's spatial domains (pbd parameter domains).
 void BM_PbdFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
-  auto m = make_model("pbd", mesh, kCubeBottom, 10,
-                      {{"threads", state.range(1)}, {"precision", state.range(2) ? "single" : "double"}});
+  auto m = make_model(
+      "pbd", mesh, kCubeBottom, 10,
+      {{"threads", state.range(1)}, {"precision", state.range(2) ? "single" : "double"}, {"domains", state.range(3)}});
   const PointLoad load = scaled_cube_load(mesh);
   for (int f = 0; f < 20; ++f) m->step(load);
   for (auto _ : state) m->step(load);
@@ -239,12 +241,14 @@ void BM_PbdFrameScaling(benchmark::State& state) {
 
 /// The hybrid end to end at scale: range(0) divisions per cube side (40: 9602
 /// surface vertices, 129: 99 848), range(1) the coarse selection's target (150,
-/// 1500 nodes), range(2) threads, range(3) 1 for a single-precision sweep. Counters: the mean time of each named phase
-/// of a frame (Model::last_phase_times), ms.
+/// 1500 nodes), range(2) threads, range(3) 1 for a single-precision sweep, range(4)
+/// the sweep's spatial domains. Counters: the mean time of each named phase of a
+/// frame (Model::last_phase_times), ms.
 void BM_HybridFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = scaled_cube(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  auto m = make_model("hybrid", mesh, kCubeBottom, 10,
-                      {{"threads", state.range(2)}, {"precision", state.range(3) ? "single" : "double"}});
+  auto m = make_model(
+      "hybrid", mesh, kCubeBottom, 10,
+      {{"threads", state.range(2)}, {"precision", state.range(3) ? "single" : "double"}, {"domains", state.range(4)}});
   const PointLoad load = scaled_cube_load(mesh);
   for (int f = 0; f < 20; ++f) m->step(load);
   std::vector<double> phase_ms(m->last_phase_times().size(), 0.0);
@@ -361,19 +365,19 @@ BENCHMARK(BM_EmbeddedFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0,
 BENCHMARK(BM_CondensedSetup)->ArgName("liver")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdFrameInstructionSet)
     ->ArgNames({"isa", "single", "divisions"})
-    ->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 40}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {0, 40}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridCoarseSolve)->Unit(benchmark::kMillisecond);
 // 10 divisions: 602 vertices; 20: 2402; 40: 9602; 82: 40 346; 129: 99 848.
 // Wall time (UseRealTime) wherever a second thread may work.
 BENCHMARK(BM_PbdFrameScaling)
-    ->ArgNames({"divisions", "threads", "single"})
-    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}, {0, 1}})
+    ->ArgNames({"divisions", "threads", "single", "domains"})
+    ->ArgsProduct({{10, 20, 40, 82, 129}, {1, 2}, {0, 1}, {1, 2}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HybridFrameScaling)
-    ->ArgNames({"divisions", "coarse", "threads", "single"})
-    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}, {0, 1}})
+    ->ArgNames({"divisions", "coarse", "threads", "single", "domains"})
+    ->ArgsProduct({{40, 129}, {150, 1500}, {1, 2}, {0, 1}, {1, 2}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdKernelSpeedup)->ArgName("divisions")->Arg(10)->Arg(40)->UseManualTime()->Unit(benchmark::kMillisecond);

@@ -509,15 +509,18 @@ TB_PBD_INLINE void corrections_of(const CorrectionArgs<typename LaneTraits<L>::S
 
 // One function per instruction set and precision, each with its target.
 #define TB_AVX512 __attribute__((target("avx512f,avx512dq")))
+#define TB_AVX512VL __attribute__((target("avx512f,avx512dq,avx512vl")))
 void sweep_sse2(const SweepArgs<double>& a, int m) { sweep_batches<SseLanes>(a, m); }
 __attribute__((target("avx"))) void sweep_avx(const SweepArgs<double>& a, int m) {
   sweep_batches<lanes::Vector<double, 4>>(a, m);
 }
+TB_AVX512VL void sweep_avx512vl(const SweepArgs<double>& a, int m) { sweep_batches<lanes::Vector<double, 4>>(a, m); }
 TB_AVX512 void sweep_avx512(const SweepArgs<double>& a, int m) { sweep_batches<lanes::Vector<double, 8>>(a, m); }
 void sweep_sse2(const SweepArgs<float>& a, int m) { sweep_batches<lanes::Vector<float, 4>>(a, m); }
 __attribute__((target("avx"))) void sweep_avx(const SweepArgs<float>& a, int m) {
   sweep_batches<lanes::Vector<float, 8>>(a, m);
 }
+TB_AVX512VL void sweep_avx512vl(const SweepArgs<float>& a, int m) { sweep_batches<lanes::Vector<float, 8>>(a, m); }
 TB_AVX512 void sweep_avx512(const SweepArgs<float>& a, int m) { sweep_batches<lanes::Vector<float, 16>>(a, m); }
 
 void corrections_sse2(const CorrectionArgs<double>& a) { corrections_of<SseLanes>(a); }
@@ -530,7 +533,10 @@ __attribute__((target("avx"))) void corrections_avx(const CorrectionArgs<float>&
   corrections_of<lanes::Vector<float, 8>>(a);
 }
 TB_AVX512 void corrections_avx512(const CorrectionArgs<float>& a) { corrections_of<lanes::Vector<float, 16>>(a); }
+TB_AVX512VL void corrections_avx512vl(const CorrectionArgs<double>& a) { corrections_of<lanes::Vector<double, 4>>(a); }
+TB_AVX512VL void corrections_avx512vl(const CorrectionArgs<float>& a) { corrections_of<lanes::Vector<float, 8>>(a); }
 #undef TB_AVX512
+#undef TB_AVX512VL
 
 template <class S>
 void run_sweeps(const SweepArgs<S>& args, InstructionSet isa) {
@@ -538,6 +544,9 @@ void run_sweeps(const SweepArgs<S>& args, InstructionSet isa) {
     switch (isa) {
       case InstructionSet::Avx512:
         sweep_avx512(args, member);
+        break;
+      case InstructionSet::Avx512Vl:
+        sweep_avx512vl(args, member);
         break;
       case InstructionSet::Avx:
         sweep_avx(args, member);
@@ -558,6 +567,9 @@ void run_corrections(const CorrectionArgs<S>& args, InstructionSet isa) {
     case InstructionSet::Avx512:
       corrections_avx512(args);
       break;
+    case InstructionSet::Avx512Vl:
+      corrections_avx512vl(args);
+      break;
     case InstructionSet::Avx:
       corrections_avx(args);
       break;
@@ -572,6 +584,8 @@ bool cpu_supports(InstructionSet isa) {
   switch (isa) {
     case InstructionSet::Avx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+    case InstructionSet::Avx512Vl:
+      return cpu_supports(InstructionSet::Avx512) && __builtin_cpu_supports("avx512vl");
     case InstructionSet::Avx:
       return __builtin_cpu_supports("avx");
     default:
@@ -580,18 +594,29 @@ bool cpu_supports(InstructionSet isa) {
 }
 
 InstructionSet best_instruction_set() {
-  static const InstructionSet best = cpu_supports(InstructionSet::Avx) ? InstructionSet::Avx : InstructionSet::Sse2;
+  static const InstructionSet best = cpu_supports(InstructionSet::Avx512Vl) ? InstructionSet::Avx512Vl
+                                     : cpu_supports(InstructionSet::Avx)    ? InstructionSet::Avx
+                                                                            : InstructionSet::Sse2;
   return best;
 }
 
 const char* name(InstructionSet isa) {
-  return isa == InstructionSet::Avx512 ? "avx512" : isa == InstructionSet::Avx ? "avx" : "sse2";
+  switch (isa) {
+    case InstructionSet::Avx512:
+      return "avx512";
+    case InstructionSet::Avx512Vl:
+      return "avx512vl";
+    case InstructionSet::Avx:
+      return "avx";
+    default:
+      return "sse2";
+  }
 }
 
 const char* name(Precision precision) { return precision == Precision::Single ? "single" : "double"; }
 
 int batch_width(InstructionSet isa, Precision precision) {
-  const int bytes = isa == InstructionSet::Avx512 ? 64 : isa == InstructionSet::Avx ? 32 : 16;
+  const int bytes = isa == InstructionSet::Avx512 ? 64 : isa == InstructionSet::Sse2 ? 16 : 32;
   return std::max(4, bytes / (precision == Precision::Single ? 4 : 8));  // SSE2 double: four as two registers
 }
 

@@ -59,8 +59,9 @@ std::vector<ParameterSpec> parameter_specs() {
       P::choice("precision", {"double", "single"}, name_of(d.precision == Precision::Double, "double", "single"),
                 "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
                 "from double's by rounding, README)"),
-      P::choice("instruction_set", {"auto", "sse2", "avx", "avx512"}, "auto",
-                "the sweep's vector instructions; auto: avx where the CPU has it, else sse2 (avx512 measured slower on "
+      P::choice("instruction_set", {"auto", "sse2", "avx", "avx512vl", "avx512"}, "auto",
+                "the sweep's vector instructions; auto: avx512vl (256-bit vectors, 32 registers) where the CPU has "
+                "it, else avx, else sse2 (avx512, 512-bit, measured slower on "
                 "this project's AMD EPYC: only when asked); double precision gives the same numbers on every one"),
       P::choice("constraint_solve", {"pbd", "xpbd"}, name_of(d.constraint_solve == ConstraintSolve::Pbd, "pbd", "xpbd"),
                 "pbd: the paper's projections with stretch_stiffness and bending_stiffness in [0, 1]; xpbd: Macklin, "
@@ -91,9 +92,8 @@ Settings Settings::from(const Parameters& p) {
   s.precision = p.choice("precision") == "single" ? Precision::Single : Precision::Double;
   const std::string& isa = p.choice("instruction_set");
   if (isa != "auto")
-    s.instruction_set = isa == "avx512" ? InstructionSet::Avx512
-                        : isa == "avx"  ? InstructionSet::Avx
-                                        : InstructionSet::Sse2;
+    for (InstructionSet candidate : kInstructionSets)
+      if (isa == name(candidate)) s.instruction_set = candidate;
   if (s.kernels == Kernels::Reference && s.threads != 1)
     throw std::invalid_argument(
         "PBD parameters: kernels 'reference' runs on one thread (threads = " + std::to_string(s.threads) + " given)");

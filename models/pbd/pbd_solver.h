@@ -120,7 +120,7 @@ class Solver {
   /// in the rest of the time step (eqs. 31-32, 34-35).
   double last_projection_ms() const { return projection_ms_; }
   double last_integration_ms() const { return integration_ms_; }
-  /// What the projection ran with, for run.json: {"instruction_set": "avx512" |
+  /// What the projection ran with, for run.json: {"instruction_set": "avx512" | "avx512vl" |
   /// "avx" | "sse2" | "scalar" (reference kernels), "lanes": per batch, "precision",
   /// "threads", "constraint_solve": "pbd" | "xpbd"}, and with xpbd
   /// "shell_thickness_m" (as used) and the stiffness range of each kind.

@@ -153,7 +153,7 @@ void expect_every_movable_constraint_once(const Rows& vertices, const std::vecto
 /// Every instruction set this CPU has.
 std::vector<InstructionSet> instruction_sets() {
   std::vector<InstructionSet> sets;
-  for (InstructionSet isa : {InstructionSet::Sse2, InstructionSet::Avx, InstructionSet::Avx512})
+  for (InstructionSet isa : kInstructionSets)
     if (cpu_supports(isa)) sets.push_back(isa);
   return sets;
 }

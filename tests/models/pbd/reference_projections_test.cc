@@ -169,7 +169,7 @@ void kernel_corrections(const std::vector<Stretch>& stretch, const std::vector<B
 
 std::vector<InstructionSet> instruction_sets() {
   std::vector<InstructionSet> sets;
-  for (InstructionSet isa : {InstructionSet::Sse2, InstructionSet::Avx, InstructionSet::Avx512})
+  for (InstructionSet isa : kInstructionSets)
     if (cpu_supports(isa)) sets.push_back(isa);
   return sets;
 }
