@@ -36,6 +36,7 @@ def case_rows(exp_dir):
                 "vertices": int(mesh["surface_vertices"]),
                 "coarse_nodes": int(mesh["coarse_nodes"]) if run["model"] == "hybrid" else None,
                 "threads": int(params.get("threads", 1)), "precision": params.get("precision", "double"),
+                "domains": int(params.get("domains", 1)),
                 "isa": run.get("model_report", {}).get("instruction_set", "?"),
                 "median_ms": step["median_ms"], "p95_ms": step["p95_ms"], "frames": step["count"],
                 "phases": phases,
@@ -44,13 +45,16 @@ def case_rows(exp_dir):
                 "coarse_target": scenario.rsplit("coarse", 1)[-1],
                 "build": run["build"],
             })
-    return sorted(rows, key=lambda r: (r["model"], r["coarse_target"], r["precision"], r["threads"], r["vertices"]))
+    return sorted(rows, key=lambda r: (r["model"], r["coarse_target"], r["precision"], r["domains"], r["threads"],
+                                       r["vertices"]))
 
 
 def series_key(r):
-    """The series a row belongs to: model, coarse target (hybrid), precision, threads."""
+    """The series a row belongs to: model, coarse target (hybrid), precision, sweep domains (if more than
+    one), threads."""
     coarse = f", coarse {r['coarse_target']}" if r["model"] == "hybrid" else ""
-    return f"{r['model']}{coarse}, {r['precision']}, {r['threads']} thread{'s' if r['threads'] > 1 else ''}"
+    domains = f", {r['domains']} domains" if r["domains"] > 1 else ""
+    return f"{r['model']}{coarse}, {r['precision']}{domains}, {r['threads']} thread{'s' if r['threads'] > 1 else ''}"
 
 
 def fitted_slope(points):
@@ -73,12 +77,13 @@ def series(rows):
 
 
 def speedup(rows, r):
-    """Median of the same case on one thread / this one's (None for one thread or no partner)."""
+    """Median of the same case on one thread (the same sweep domains: the same numbers) / this one's (None
+    for one thread or no partner)."""
     if r["threads"] == 1:
         return None
     for o in rows:
-        if (o["model"], o["coarse_target"], o["precision"], o["vertices"], o["threads"]) == (
-                r["model"], r["coarse_target"], r["precision"], r["vertices"], 1):
+        if (o["model"], o["coarse_target"], o["precision"], o["domains"], o["vertices"], o["threads"]) == (
+                r["model"], r["coarse_target"], r["precision"], r["domains"], r["vertices"], 1):
             return o["median_ms"] / r["median_ms"]
     return None
 
@@ -106,7 +111,9 @@ def make(exp_dir, out):
         os.path.join(out, "tables"), "scaling", header, table,
         "Per-frame time of step() after the 50-frame load ramp (250 frames), 10 Gauss-Seidel iterations, cube "
         "surfaces of 682 to 99 848 vertices (experiments/scaling/). Slopes: least squares of log(median) on "
-        "log(vertices). Phases: medians of Model::last_phase_times (projection: pins and sweeps; integration: "
+        "log(vertices). 2 threads speed-up: against one thread with the same sweep domains (bitwise the same "
+        "result). Domains: the PBD parameter domains (the surface bisected, each domain swept whole by one "
+        "thread, then the constraints across domains). Phases: medians of Model::last_phase_times (projection: pins and sweeps; integration: "
         "eqs. 31-32, 34-35 and the displacement output). "
         f"Measured on {b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
         f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; vector instructions "

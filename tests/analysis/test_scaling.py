@@ -13,10 +13,13 @@ import scaling  # noqa: E402
 BUILD = {"cpu_model": "test cpu", "hardware_threads": 2, "build_type": "Release", "compiler": "g++", "git_commit": "x"}
 
 
-def write_case(root, scenario, case, model, vertices, threads, median, phases):
+def write_case(root, scenario, case, model, vertices, threads, median, phases, domains=None):
     d = os.path.join(root, scenario, case)
     os.makedirs(d)
-    run = {"model": model, "parameters": {"threads": threads, "precision": "double"},
+    parameters = {"threads": threads, "precision": "double"}
+    if domains:
+        parameters["domains"] = domains
+    run = {"model": model, "parameters": parameters,
            "model_report": {"instruction_set": "avx"}, "build": BUILD,
            "mesh": {"surface_vertices": vertices, "coarse_nodes": 150, "fine_tets": 10 * vertices,
                     "build_seconds": vertices / 1e4, "process_peak_memory_mib_after_build": 100.0,
@@ -41,16 +44,21 @@ class Scaling(unittest.TestCase):
             for v in (1000, 10000, 100000):
                 write_case(root, f"cube-{v}-coarse150", "pbd", "pbd", v, 1, v * 1e-3, {"projection": v * 0.9e-3})
                 write_case(root, f"cube-{v}-coarse150", "pbd-t2", "pbd", v, 2, v * 0.6e-3, {"projection": v * 0.5e-3})
+                write_case(root, f"cube-{v}-coarse150", "pbd-d2", "pbd", v, 1, v * 0.8e-3, {}, domains=2)
+                write_case(root, f"cube-{v}-coarse150", "pbd-d2-t2", "pbd", v, 2, v * 0.4e-3, {}, domains=2)
             scaling.make(root, tmp)
             with open(os.path.join(tmp, "tables", "scaling.csv")) as f:
                 rows = list(csv.DictReader(f))
-            self.assertEqual(len(rows), 6)
+            self.assertEqual(len(rows), 12)
             one = [r for r in rows if r["series"] == "pbd, double, 1 thread"]
             two = [r for r in rows if r["series"] == "pbd, double, 2 threads"]
             self.assertEqual([int(r["surface vertices"]) for r in one], [1000, 10000, 100000])
             self.assertEqual(one[0]["slope (all sizes)"], "1.000")
             self.assertEqual(two[2]["2 threads speed-up"], "1.67")
             self.assertEqual(two[2]["projection ms"], "50.000")
+            # With domains: its own series, the speed-up against one thread with the same domains.
+            two_domains = [r for r in rows if r["series"] == "pbd, double, 2 domains, 2 threads"]
+            self.assertEqual(two_domains[2]["2 threads speed-up"], "2.00")
             self.assertTrue(os.path.isfile(os.path.join(tmp, "figures", "scaling.png")))
             with open(os.path.join(tmp, "tables", "scaling_mesh.csv")) as f:
                 mesh = list(csv.DictReader(f))
