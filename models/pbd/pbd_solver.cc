@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <numeric>
 #include <stdexcept>
 
 #include "constraints.h"
@@ -14,6 +15,18 @@
 
 namespace tb::pbd {
 namespace {
+
+/// The rows of vertices ordered domain by domain (by vertex within a domain):
+/// result[v] is vertex v's row.
+std::vector<int> rows_by_domain(const std::vector<int>& domain) {
+  std::vector<int> vertices(domain.size());
+  std::iota(vertices.begin(), vertices.end(), 0);
+  std::stable_sort(vertices.begin(), vertices.end(),
+                   [&](int a, int b) { return domain[static_cast<size_t>(a)] < domain[static_cast<size_t>(b)]; });
+  std::vector<int> row(domain.size());
+  for (size_t r = 0; r < vertices.size(); ++r) row[static_cast<size_t>(vertices[r])] = static_cast<int>(r);
+  return row;
+}
 
 /// inverse_mass, checked to have one entry per vertex before the constraint
 /// batches index it.
@@ -189,8 +202,9 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       c_(build_constraints(rest)),
       s_(settings),
       isa_(s_.instruction_set.value_or(best_instruction_set())),
-      batches_(c_, w_, batch_width(isa_, s_.precision), s_.precision,
-               s_.domains > 1 ? bisect_into_domains(rest.V, s_.domains) : std::vector<int>{}) {
+      domain_(bisect_into_domains(rest.V, s_.domains)),
+      row_of_(s_.domains > 1 ? rows_by_domain(domain_) : std::vector<int>{}),
+      batches_(pack_batches(batch_width(isa_, s_.precision))) {
   if (!cpu_supports(isa_))
     throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
   if (s_.precision == Precision::Single) q_ = PaddedRows<float>(rest.V.rows());
@@ -228,10 +242,14 @@ void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const s
   for (int k = 0; k < 4; ++k)  // eq. (31), the force shared by the load's vertices
     if (load.weights(k) != 0) v_.row(load.nodes(k)) += (dt * w_(load.nodes(k)) * load.weights(k)) * force.transpose();
   v_ *= (1 - s_.damping);
-  p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  if (row_of_.empty()) {
+    p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
+  } else {
+    for (Eigen::Index v = 0; v < x_.rows(); ++v) p_.matrix().row(row(v)).head<3>() = x_.row(v) + dt * v_.row(v);
+  }
   const auto t1 = Clock::now();
   for (size_t k = 0; k < pinned.size(); ++k)
-    p_.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
+    p_.matrix().row(row(pinned[k])).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
   if (s_.kernels == Kernels::Simd && s_.precision == Precision::Single) {
@@ -248,8 +266,16 @@ void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const s
     for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
   }
   const auto t2 = Clock::now();
-  v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
-  x_ = p_.matrix().leftCols<3>();              // eq. (34)
+  if (row_of_.empty()) {
+    v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
+    x_ = p_.matrix().leftCols<3>();              // eq. (34)
+  } else {
+    for (Eigen::Index v = 0; v < x_.rows(); ++v) {
+      const Eigen::RowVector3d p = p_.matrix().row(row(v)).head<3>();
+      v_.row(v) = (p - x_.row(v)) / dt;
+      x_.row(v) = p;
+    }
+  }
   const auto t3 = Clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
   projection_ms_ = Ms(t2 - t1).count();
@@ -275,15 +301,29 @@ nlohmann::json Solver::details() const {
 }
 
 void Solver::use_instruction_set(InstructionSet isa) {
-  if (batch_width(isa, s_.precision) != batches_.width())
-    batches_ = ConstraintBatches(c_, w_, batch_width(isa, s_.precision), s_.precision);
+  if (batch_width(isa, s_.precision) != batches_.width()) batches_ = pack_batches(batch_width(isa, s_.precision));
   isa_ = isa;
+}
+
+ConstraintBatches Solver::pack_batches(int width) const {
+  if (row_of_.empty()) return ConstraintBatches(c_, w_, width, s_.precision);
+  // The same constraints (rows, order, colours: the numbers do not change) on rows of p_.
+  ConstraintSet on_rows = c_;
+  for (Eigen::Index i = 0; i < on_rows.stretch.size(); ++i) on_rows.stretch.data()[i] = row(on_rows.stretch.data()[i]);
+  for (Eigen::Index i = 0; i < on_rows.bending.size(); ++i) on_rows.bending.data()[i] = row(on_rows.bending.data()[i]);
+  Eigen::VectorXd w_of_row(w_.size());
+  std::vector<int> domain_of_row(domain_.size());
+  for (Eigen::Index v = 0; v < w_.size(); ++v) {
+    w_of_row(row(v)) = w_(v);
+    domain_of_row[static_cast<size_t>(row(v))] = domain_[static_cast<size_t>(v)];
+  }
+  return ConstraintBatches(on_rows, w_of_row, width, s_.precision, domain_of_row);
 }
 
 template <class ProjectStretch, class ProjectBending>
 void Solver::scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending) {
   double* x = p_.data();
-  auto P = [x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * Eigen::Index{v}); };
+  auto P = [this, x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * row(v)); };
   const std::vector<int>& so = batches_.stretch_order();
   for (size_t k = 0; k < so.size(); ++k) {
     const int i = so[reverse ? so.size() - 1 - k : k];

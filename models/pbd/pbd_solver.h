@@ -143,7 +143,12 @@ class Solver {
   ConstraintSet c_;
   Settings s_;
   InstructionSet isa_;
-  ConstraintBatches batches_;  // c_ ordered and packed for the sweep
+  std::vector<int> domain_;  // each vertex's sweep domain (Settings::domains; all 0 for one)
+  /// Each vertex's row in p_ and q_: domain by domain, so that the domains a thread
+  /// sweeps are contiguous in memory (interleaved rows put cache lines under two
+  /// threads' writes: measured slower on two threads than on one). Empty: row = vertex.
+  std::vector<int> row_of_;
+  ConstraintBatches batches_;  // c_ ordered and packed for the sweep, on rows of p_
   double k_stretch_, k_bend_;
   std::unique_ptr<ThreadTeam> team_;  // null with one thread
   double projection_ms_ = 0, integration_ms_ = 0;
@@ -151,6 +156,10 @@ class Solver {
   Eigen::VectorXd stretch_alpha_, bending_alpha_, stretch_alpha_tilde_, bending_alpha_tilde_;
   Eigen::VectorXd stretch_lambda_, bending_lambda_;
   double thickness_ = 0;
+  /// c_ and w_ on rows of p_ (row_of_), ordered and packed in `width` lanes.
+  ConstraintBatches pack_batches(int width) const;
+  /// The row of p_ holding vertex v.
+  Eigen::Index row(Eigen::Index v) const { return row_of_.empty() ? v : row_of_[static_cast<size_t>(v)]; }
   /// One sweep with the reference projections, in the batches' order.
   void reference_sweep(bool reverse);
   /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
