@@ -53,8 +53,10 @@ struct Settings {
   /// Spatial domains of the sweep's order (domain_partition.h): 1, the colouring
   /// of every constraint (the paper's tables); more, each domain's constraints
   /// coloured, then the interface's, so that threads sweep whole domains between
-  /// two barriers. Changes the Gauss-Seidel order (so the bits), not the thread
-  /// count's independence.
+  /// two barriers. Changes the Gauss-Seidel order, and with it PBD's steady state
+  /// (10 sweeps do not converge): on the paper cube by 3 % (2 domains) to 8-14 %
+  /// (8) of max |u|, r(u_z) within 0.003 (README); the result still does not
+  /// depend on the thread count.
   int domains = 1;
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
   Precision precision = Precision::Double;
