@@ -152,9 +152,9 @@ def make(root, out_root):
 
     md = (
         "# The PositionBasedDynamics library against tissuebench's pbd model (issue 16)\n\n"
-        f"**Timings taken on a shared machine** ({b.get('cpu_model', '?')}, {b.get('hardware_threads', '?')} "
-        "hardware threads, other jobs running: see the load-average column), so compare the ratios, not the "
-        "times. Produced by `scripts/pbd_library_comparison` (tables by `analysis/pbd_library.py`). "
+        f"Machine: {b.get('cpu_model', '?')}, {b.get('hardware_threads', '?')} hardware threads; **check the "
+        "load-average column**: about 1 is a quiet machine (this script's own process), more means other jobs "
+        "shared the cores and only the ratios are comparable. Produced by `scripts/pbd_library_comparison` (tables by `analysis/pbd_library.py`). "
         "Per frame, after the 50-frame load ramp: median and p95 over "
         f"{', '.join(sorted({str(r['timed_frames']) for r in rows}, key=int))} frames. The library "
         f"({lib_build['source'].rstrip('/').split('/')[-1]} {lib_build['version']}, commit "
@@ -165,10 +165,11 @@ def make(root, out_root):
         "collision detection). Tissuebench "
         f"({b['build_type']}, {b['compiler']}, commit {b['git_commit']}, {rows[0]['tb_isa']} kernels) is timed by "
         "its runner (timings.json, step_after_ramp): the whole pbd model step. Threads: the library's "
-        "OMP_NUM_THREADS, tissuebench's `threads` parameter. The 2-thread rows measure the contention as much as "
-        "the solvers: on a shared 2-core machine a 2-thread process seldom has both cores, and every colour ends "
+        "OMP_NUM_THREADS, tissuebench's `threads` parameter (its sweep here colour by colour, `domains` 1; its "
+        "spatial domains are faster on 2 threads: README, scaling). On a shared machine the 2-thread rows measure "
+        "the contention as much as the solvers: a 2-thread process seldom has both cores, and every colour ends "
         "in a barrier (README, against the PositionBasedDynamics library). The fastest-frame ratio is the one "
-        "least disturbed by the other jobs.\n\n"
+        "least disturbed by other jobs.\n\n"
         + md_table(header, body) +
         "\n## Same work?\n\n"
         "Both read the same OBJ surface (tissuebench's `mesh/fine_surface.obj`), fix the same bottom vertices "

@@ -75,7 +75,7 @@ class PbdLibrary(unittest.TestCase):
             self.assertEqual(rows[1]["load_library"], "3.0")  # the larger of before and after
             with open(os.path.join(tmp, "tables", "pbd_library.md")) as f:
                 md = f.read()
-            self.assertIn("shared machine", md.splitlines()[2])
+            self.assertIn("load-average column", md.splitlines()[2])
             self.assertIn("| 10000 | 1 | 80.000 | 160.000 | 10.000 | 15.000 | 5.000 | 7.500 | 8.00 | 16.00 | 8.00 | 2.5 / 1.5 |", md)
             self.assertIn("| 1000 | 2994 / 2994 | 2994 / 2994 | 27 | 10 / 10 |", md)
             self.assertIn("15.00 / 20.00", md)
