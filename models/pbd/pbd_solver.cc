@@ -43,12 +43,18 @@ std::vector<ParameterSpec> parameter_specs() {
   auto name_of = [](bool first, const char* a, const char* b) { return first ? a : b; };
   return {
       P::number("time_step", d.time_step, 1e-6, 1.0, "time step per frame, s"),
-      P::whole_number("iterations", d.iterations, 1, 1000, "Gauss-Seidel projection sweeps per frame"),
+      P::whole_number("substeps", d.substeps, 1, 1000,
+                      "sub-steps per frame (Macklin et al. 2019): each frame runs this many steps of "
+                      "time_step / substeps, each with eqs. (31)-(35) and `iterations` sweeps (pinned control points "
+                      "held at the frame's positions); 1: the paper's step"),
+      P::whole_number("iterations", d.iterations, 1, 1000, "Gauss-Seidel projection sweeps per (sub)step"),
       P::number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
       P::number("bending_stiffness", d.bending_stiffness, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
       P::choice("stiffness_correction", {"mueller2007", "none"}, name_of(d.correct_stiffness, "mueller2007", "none"),
                 "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given"),
-      P::number("damping", d.damping, 0.0, 1.0, "fraction of each vertex velocity removed per frame"),
+      P::number("damping", d.damping, 0.0, 1.0,
+                "fraction of each vertex velocity removed per (sub)step, after eq. (31) adds the force (a steady "
+                "state applies (1 - damping) f whatever substeps is)"),
       P::choice("bending_angle", {"unsigned", "signed"},
                 name_of(d.bending_angle == BendingAngle::Unsigned, "unsigned", "signed"),
                 "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
@@ -92,6 +98,7 @@ std::vector<ParameterSpec> parameter_specs() {
 Settings Settings::from(const Parameters& p) {
   Settings s;
   s.time_step = p.number("time_step");
+  s.substeps = p.integer("substeps");
   s.iterations = p.integer("iterations");
   s.stretch_stiffness = p.number("stretch_stiffness");
   s.bending_stiffness = p.number("bending_stiffness");
@@ -213,6 +220,8 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
   if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
+  if (s_.substeps < 1)
+    throw std::invalid_argument("PBD solver: substeps must be at least 1 (" + std::to_string(s_.substeps) + " given)");
   if (s_.kernels == Kernels::Reference && (s_.threads != 1 || s_.precision != Precision::Double))
     throw std::invalid_argument("PBD solver: the reference kernels run on one thread in double precision");
   if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
@@ -220,12 +229,12 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
     if (s_.kernels != Kernels::Reference || s_.bending_angle != BendingAngle::Signed)
       throw std::invalid_argument("PBD solver: XPBD runs with the reference kernels and the signed bending angle");
     thickness_ = s_.shell_thickness > 0 ? s_.shell_thickness : volume_preserving_thickness(rest);
-    const double E = s_.material.youngs_modulus, dt2 = s_.time_step * s_.time_step;
+    const double E = s_.material.youngs_modulus, h = s_.time_step / s_.substeps, h2 = h * h;
     stretch_alpha_ = stretch_compliances(rest, c_, E, thickness_);
     bending_alpha_ = bending_compliances(rest, c_, E, s_.material.poisson_ratio, thickness_);
-    stretch_alpha_tilde_ = stretch_alpha_ / dt2;  // XPBD eq. (4): alpha~ = alpha / dt^2
-    bending_alpha_tilde_ = bending_alpha_ / dt2;
-    stretch_lambda_ = Eigen::VectorXd::Zero(c_.stretch.rows());  // allocated here, reset each frame
+    stretch_alpha_tilde_ = stretch_alpha_ / h2;  // XPBD eq. (4): alpha~ = alpha / dt^2, dt the sub-step h
+    bending_alpha_tilde_ = bending_alpha_ / h2;
+    stretch_lambda_ = Eigen::VectorXd::Zero(c_.stretch.rows());  // allocated here, reset each sub-step
     bending_lambda_ = Eigen::VectorXd::Zero(c_.bending.rows());
   }
 }
@@ -237,12 +246,20 @@ LoadStencil Solver::locate_load(const Eigen::Vector3d& point) const {
 
 void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
                   const Points& pinned_positions) {
+  projection_ms_ = integration_ms_ = 0;
+  // Sub-stepping (Macklin et al. 2019): n steps of h = time_step / n. With n = 1,
+  // h is time_step exactly and the frame is the paper's step, bit for bit.
+  const double h = s_.time_step / s_.substeps;
+  for (int k = 0; k < s_.substeps; ++k) substep(h, load, force, pinned, pinned_positions);
+}
+
+void Solver::substep(double dt, const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+                     const Points& pinned_positions) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  const double dt = s_.time_step;
   for (int k = 0; k < 4; ++k)  // eq. (31), the force shared by the load's vertices
     if (load.weights(k) != 0) v_.row(load.nodes(k)) += (dt * w_(load.nodes(k)) * load.weights(k)) * force.transpose();
-  v_ *= (1 - s_.damping);
+  v_ *= (1 - s_.damping);  // per (sub)step: the steady state applies (1 - damping) f for any substeps
   if (row_of_.empty()) {
     p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
   } else {
@@ -260,7 +277,7 @@ void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const s
   } else if (s_.kernels == Kernels::Simd) {
     batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
   } else if (s_.constraint_solve == ConstraintSolve::Xpbd) {
-    stretch_lambda_.setZero();  // XPBD: the multipliers start from 0 each frame
+    stretch_lambda_.setZero();  // XPBD: the multipliers start from 0 each (sub)step
     bending_lambda_.setZero();
     for (int it = 0; it < s_.iterations; ++it) xpbd_sweep(it % 2 == 1);
   } else {
@@ -279,8 +296,8 @@ void Solver::step(const LoadStencil& load, const Eigen::Vector3d& force, const s
   }
   const auto t3 = Clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
-  projection_ms_ = Ms(t2 - t1).count();
-  integration_ms_ = Ms(t1 - t0).count() + Ms(t3 - t2).count();
+  projection_ms_ += Ms(t2 - t1).count();
+  integration_ms_ += Ms(t1 - t0).count() + Ms(t3 - t2).count();
 }
 
 nlohmann::json Solver::details() const {

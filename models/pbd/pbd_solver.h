@@ -34,18 +34,25 @@ enum class LoadSpread { NearestVertex, SurfaceTriangle };
 /// How a frame's constraints are solved: PBD's projections with stiffnesses in
 /// [0, 1] (paper 1.4), or XPBD (Macklin, Mueller, Chentanez 2016): a compliance per
 /// constraint derived from the material (xpbd_compliance.h) and a Lagrange
-/// multiplier per constraint accumulated over the frame's iterations (reset each
-/// frame), whose steady state does not depend on the iteration count. XPBD runs
+/// multiplier per constraint accumulated over the (sub)step's iterations (reset each
+/// sub-step), whose steady state does not depend on the iteration count. XPBD runs
 /// with the reference kernels only.
 enum class ConstraintSolve { Pbd, Xpbd };
 
 struct Settings {
-  double time_step = 0.01;                              ///< s
-  int iterations = 10;                                  ///< Gauss-Seidel sweeps per frame
+  double time_step = 0.01;                              ///< s, per frame
+  /// Sub-steps per frame (Macklin et al. 2019, "Small steps in physics simulation"):
+  /// a frame runs `substeps` time steps of time_step / substeps, each with eqs.
+  /// (31)-(35) and `iterations` sweeps. 1: the paper's step.
+  int substeps = 1;
+  int iterations = 10;                                  ///< Gauss-Seidel sweeps per (sub)step
   double stretch_stiffness = 1;                         ///< in [0, 1]
   double bending_stiffness = 1;                         ///< in [0, 1]
   bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
-  double damping = 0.05;                                ///< fraction of velocity removed per frame
+  /// Fraction of velocity removed per (sub)step, after eq. (31) adds the force: a
+  /// steady state applies (1 - damping) f whatever `substeps` is; a frame keeps
+  /// (1 - damping)^substeps of its velocity.
+  double damping = 0.05;
   BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
   LoadSpread load_spread = LoadSpread::NearestVertex;
   Kernels kernels = Kernels::Simd;
@@ -97,10 +104,12 @@ class Solver {
   /// control points, which the projection never moves).
   Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings);
 
-  /// One frame. External force `force` spread over the vertices of `load` (node k
-  /// receives weights(k) force; all weights 0: no force): eq. (31) velocities, damping, eq. (32) prediction, then
-  /// positions of `pinned` vertices set to `pinned_positions` (eq. 33; may be empty), the Gauss-Seidel projection, and
-  /// eqs. (34)-(35).
+  /// One frame: Settings::substeps steps of h = time_step / substeps, each: external
+  /// force `force` spread over the vertices of `load` (node k receives weights(k) force;
+  /// all weights 0: no force): eq. (31) velocities, damping, eq. (32) prediction, then
+  /// positions of `pinned` vertices set to `pinned_positions` (eq. 33; may be empty;
+  /// the same positions in every sub-step), the Gauss-Seidel projection (XPBD: the
+  /// multipliers start from 0), and eqs. (34)-(35).
   ///   pinned            #P vertex indices (must have inverse mass 0)
   ///   pinned_positions  #P by 3 positions for this frame
   void step(const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
@@ -119,7 +128,7 @@ class Solver {
   void use_instruction_set(InstructionSet isa);
   const Settings& settings() const { return s_; }
   /// Time (ms) the last step() spent in the projection (eq. 33 and the sweeps) and
-  /// in the rest of the time step (eqs. 31-32, 34-35).
+  /// in the rest of the time step (eqs. 31-32, 34-35), summed over its sub-steps.
   double last_projection_ms() const { return projection_ms_; }
   double last_integration_ms() const { return integration_ms_; }
   /// What the projection ran with, for run.json: {"instruction_set": "avx512" | "avx512vl" |
@@ -128,7 +137,7 @@ class Solver {
   /// "shell_thickness_m" (as used) and the stiffness range of each kind.
   nlohmann::json details() const;
   /// XPBD: per-constraint compliances alpha (stretch m/N, bending 1/(N m)), one per
-  /// ConstraintSet row, and the Lagrange multipliers of the last frame; empty for PBD.
+  /// ConstraintSet row, and the Lagrange multipliers of the last (sub)step; empty for PBD.
   const Eigen::VectorXd& stretch_compliance() const { return stretch_alpha_; }
   const Eigen::VectorXd& bending_compliance() const { return bending_alpha_; }
   const Eigen::VectorXd& stretch_multipliers() const { return stretch_lambda_; }
@@ -154,7 +163,7 @@ class Solver {
   double k_stretch_, k_bend_;
   std::unique_ptr<ThreadTeam> team_;  // null with one thread
   double projection_ms_ = 0, integration_ms_ = 0;
-  // XPBD (empty for PBD): compliances, alpha / dt^2, and the multipliers, per constraint row.
+  // XPBD (empty for PBD): compliances, alpha / h^2 (h the sub-step), and the multipliers, per constraint row.
   Eigen::VectorXd stretch_alpha_, bending_alpha_, stretch_alpha_tilde_, bending_alpha_tilde_;
   Eigen::VectorXd stretch_lambda_, bending_lambda_;
   double thickness_ = 0;
@@ -162,6 +171,9 @@ class Solver {
   ConstraintBatches pack_batches(int width) const;
   /// The row of p_ holding vertex v.
   Eigen::Index row(Eigen::Index v) const { return row_of_.empty() ? v : row_of_[static_cast<size_t>(v)]; }
+  /// One time step of h (eqs. 31-35), timed into projection_ms_ and integration_ms_.
+  void substep(double h, const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
+               const Points& pinned_positions);
   /// One sweep with the reference projections, in the batches' order.
   void reference_sweep(bool reverse);
   /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
