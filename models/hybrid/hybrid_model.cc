@@ -47,6 +47,28 @@ class HybridModel : public Model {
       throw std::invalid_argument(std::string("hybrid: coarse mesh: ") + e.what());
     }
     control_ = h.control_points;
+    // surface_support coarse_fem: the surface vertices the support box holds follow
+    // the coarse FEM, pinned like control points, instead of staying at rest. The
+    // box clamps the coarse mesh at its own nodes only, so the coarse body can move
+    // where the surface is clamped; on the liver it moves control points 2 mm within
+    // 1.1 mm of clamped surface vertices, a band the surface folds in (README).
+    supported_following_coarse_ = 0;
+    if (!exact_control_points_ && p.parameters.choice("surface_support") == "coarse_fem") {
+      std::vector<char> is_control(static_cast<size_t>(h.fine_surface.V.rows()));
+      for (const auto& cp : control_) is_control[static_cast<size_t>(cp.surface_vertex)] = 1;
+      const std::vector<char> supported = p.support.select(h.fine_surface.V);
+      std::vector<int> extra;
+      for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
+        if (supported[static_cast<size_t>(v)] && !is_control[static_cast<size_t>(v)]) extra.push_back(static_cast<int>(v));
+      Points at(static_cast<Eigen::Index>(extra.size()), 3);
+      for (size_t k = 0; k < extra.size(); ++k) at.row(static_cast<Eigen::Index>(k)) = h.fine_surface.V.row(extra[k]);
+      std::vector<ControlPoint> embedded = embed_vertices(at, h.coarse_volume);
+      for (size_t k = 0; k < extra.size(); ++k) {
+        embedded[k].surface_vertex = extra[k];
+        control_.push_back(embedded[k]);
+      }
+      supported_following_coarse_ = static_cast<int>(extra.size());
+    }
     control_u_ = Points::Zero(static_cast<Eigen::Index>(control_.size()), 3);
     const SurfaceMesh& s = h.fine_surface;
     std::vector<char> fixed = p.support.select(s.V);  // the control points hold the surface too
@@ -114,6 +136,7 @@ class HybridModel : public Model {
       return r;
     }
     r["control_points"] = "coarse_fem";
+    if (supported_following_coarse_ > 0) r["supported_vertices_following_coarse_fem"] = supported_following_coarse_;
     r["coarse_solve"] = coarse_->report();
     if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
     return r;
@@ -124,6 +147,7 @@ class HybridModel : public Model {
  private:
   std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
   bool exact_control_points_ = false;
+  int supported_following_coarse_ = 0;  // surface_support coarse_fem: supported vertices pinned to the coarse FEM
   bool load_on_nearest_node_ = false;
   std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only
   std::unique_ptr<PrecomputedResponse> exact_;  // exact_fine_fem only
@@ -159,6 +183,11 @@ ModelInfo hybrid_model_info() {
       "how the load reaches the coarse FEM: containing_tet, spread by the P1 weights of the coarse tet holding the "
       "point (the nearest tet when it lies outside, distance in run.json); nearest_node, all on the nearest coarse "
       "node"));
+  specs.push_back(ParameterSpec::choice(
+      "surface_support", {"clamped", "coarse_fem"}, "clamped",
+      "clamped: the surface vertices in the support box stay at rest; coarse_fem: they follow the coarse FEM, "
+      "pinned as the control points are (the box clamps the coarse mesh at its own nodes only, so the coarse body "
+      "can move where the surface is clamped); control_points exact_fine_fem ignores it"));
   specs.push_back(ParameterSpec::choice(
       "surface_force", {"applied", "none"}, "applied",
       "applied: eq. (31) also applies the load to the surface (where load_spread says), as in the paper's step 2; "
