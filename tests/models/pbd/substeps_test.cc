@@ -128,7 +128,7 @@ TEST(Substeps, NSubstepsAreNStepsOfTheSubstepByHand) {
 
 TEST(Substeps, EqualFramesOfTheSubstepForEveryConstraintSolve) {
   // substeps n at time_step dt against substeps 1 at dt / n stepped n times a frame:
-  // the same numbers with PBD (SIMD and reference kernels) and XPBD, whose
+  // the same numbers with PBD (SIMD, on spatial domains too, and reference kernels) and XPBD, whose
   // compliance term is alpha / h^2 with h the sub-step and whose multipliers
   // restart each sub-step.
   const LoadedCube cube;
@@ -136,12 +136,16 @@ TEST(Substeps, EqualFramesOfTheSubstepForEveryConstraintSolve) {
     const char* name;
     Kernels kernels;
     ConstraintSolve solve;
+    int domains, threads;
   };
-  for (const Case& c : {Case{"simd pbd", Kernels::Simd, ConstraintSolve::Pbd},
-                        Case{"reference pbd", Kernels::Reference, ConstraintSolve::Pbd},
-                        Case{"xpbd", Kernels::Reference, ConstraintSolve::Xpbd}}) {
+  for (const Case& c : {Case{"simd pbd", Kernels::Simd, ConstraintSolve::Pbd, 1, 1},
+                        Case{"simd pbd, 2 domains, 2 threads", Kernels::Simd, ConstraintSolve::Pbd, 2, 2},
+                        Case{"reference pbd", Kernels::Reference, ConstraintSolve::Pbd, 1, 1},
+                        Case{"xpbd", Kernels::Reference, ConstraintSolve::Xpbd, 1, 1}}) {
     const int n = 4;
     Settings coarse, fine;
+    coarse.domains = fine.domains = c.domains;
+    coarse.threads = fine.threads = c.threads;
     coarse.kernels = fine.kernels = c.kernels;
     coarse.constraint_solve = fine.constraint_solve = c.solve;
     coarse.bending_angle = fine.bending_angle = BendingAngle::Signed;
