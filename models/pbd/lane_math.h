@@ -69,6 +69,7 @@ TB_TWIN_BINARY(*)
 TB_TWIN_BINARY(/)
 TB_TWIN_BINARY(<)
 TB_TWIN_BINARY(>)
+TB_TWIN_BINARY(<=)
 TB_TWIN_BINARY(&)
 #undef TB_TWIN_BINARY
 template <class V>
@@ -146,9 +147,26 @@ TB_PBD_INLINE T abs(T x) {
   }
 }
 
+/// Whether any lane of the mask m (from a comparison) is true.
+template <class M>
+TB_PBD_INLINE bool any(M m) {
+  if constexpr (std::is_same_v<M, bool>) {
+    return m;
+  } else {  // one vptest or movmsk
+    using Bits = Element<M>;
+    Bits all{};
+    for (int l = 0; l < width<M>(); ++l) all |= m[l];
+    return all != 0;
+  }
+}
+
 template <class M, class V>
 TB_PBD_INLINE Twin<V> select(const Twin<M>& m, const Twin<V>& a, const Twin<V>& b) {
   return {select(m.lo, a.lo, b.lo), select(m.hi, a.hi, b.hi)};
+}
+template <class M>
+TB_PBD_INLINE bool any(const Twin<M>& m) {
+  return any(m.lo | m.hi);
 }
 template <class V>
 TB_PBD_INLINE Twin<V> sqrt(const Twin<V>& x) {

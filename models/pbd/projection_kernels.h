@@ -28,13 +28,14 @@ using lanes::Triple;
 /// triangles become coplanar (the 1/sqrt(1 - d^2) of eqs. 22-24 is 0/0 there).
 /// Signs checked against finite differences in tests/models/pbd/constraints_test.cc.
 /// Returns the mask of non-degenerate lanes; degenerate ones get theta = 0 and a
-/// finite gradient the caller must ignore.
+/// finite gradient the caller must ignore. `hinge2` (if not null) gets |e|^2.
 template <class T>
-TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad) {
+TB_PBD_INLINE auto signed_angle(const Triple<T> p[4], T& theta, Triple<T>* grad, T* hinge2 = nullptr) {
   using lanes::splat;
   const T one = splat<T>(1), tiny = splat<T>(kTiny);
   const Triple<T> e = p[1] - p[0];
   const T ee = dot(e, e), elen = lanes::sqrt(ee);
+  if (hinge2) *hinge2 = ee;
   const Triple<T> n1 = cross(p[2] - p[0], p[2] - p[1]), n2 = cross(p[3] - p[1], p[3] - p[0]);
   const T a3 = dot(n1, n1), a4 = dot(n2, n2);
   const auto ok = (elen > tiny) & (a3 > tiny) & (a4 > tiny);
@@ -89,29 +90,40 @@ TB_PBD_INLINE auto project_stretch(const Triple<T>& p1, T share1, const Triple<T
 /// typo, not used), C as `kind` says (constraints.h). rest_angle is the signed
 /// rest angle theta0. The mask is false (zero corrections) where nothing moves:
 /// degenerate, or the denominator at or below kTiny or kNoiseGradient of its scale.
+/// A step beyond its trust region (constraints.h) is shortened to reach its edge.
 template <class T>
 TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_angle, double stiffness,
                                    BendingAngle kind, Triple<T> corr[4]) {
-  T theta;
-  auto ok = signed_angle(p, theta, corr);  // corr holds the gradient of theta
+  T theta, hinge2;
+  auto ok = signed_angle(p, theta, corr, &hinge2);  // corr holds the gradient of theta
   T c = theta - rest_angle;
   T sign = lanes::splat<T>(1);
   if (kind == BendingAngle::Unsigned) {  // eq. (19): C = |theta| - |theta_0|, grad C = sign(theta) grad theta
     sign = lanes::select(theta < T{}, lanes::splat<T>(-1), sign);
     c = lanes::abs(theta) - lanes::abs(rest_angle);
   }
-  T denom{}, largest{};
+  T denom{}, largest{}, widest{};  // widest: max_k w_k^2 |g_k|^2 = (longest step / s)^2
   for (int k = 0; k < 4; ++k) {
     const T g2 = dot(corr[k], corr[k]);  // |sign g|^2 = |g|^2
-    denom += w[k] * g2;
+    const T wg2 = w[k] * g2;
+    denom += wg2;
     largest = lanes::select(g2 > largest, g2, largest);
+    widest = lanes::select(w[k] * wg2 > widest, w[k] * wg2, widest);
   }
+  const T scale = (w[0] + w[1] + w[2] + w[3]) * largest;  // denom / scale = q^2 in (0, 1]
   ok = ok & (denom > lanes::splat<T>(kTiny)) &
        (denom > lanes::splat<T>(std::is_same_v<lanes::Element<T>, float> ? kNoiseGradientSingle : kNoiseGradient) *
-                    ((w[0] + w[1] + w[2] + w[3]) * largest));
+                    scale);
   // The reciprocal of denom does not wait for the angle (c): off the critical path.
   const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
-  const T s = lanes::select(ok, lanes::splat<T>(-stiffness) * c * inv_denom, T{}) * sign;
+  T s = lanes::select(ok, lanes::splat<T>(-stiffness) * c * inv_denom, T{});
+  // The trust region (constraints.h): the longest step s sqrt(widest) at most
+  // q |e|, q^2 = denom / scale; beyond, s shrinks to reach it.
+  const T reach = hinge2 * denom, step = s * s * widest * scale;
+  const auto beyond = step > reach;
+  if (lanes::any(beyond))  // rare: a branch, not a square root and a division on every projection
+    s = lanes::select(beyond, s * lanes::sqrt(reach / lanes::select(beyond, step, lanes::splat<T>(1))), s);
+  s = s * sign;
   for (int k = 0; k < 4; ++k) corr[k] = (s * w[k]) * corr[k];
   return ok;
 }

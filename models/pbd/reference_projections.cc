@@ -114,6 +114,21 @@ bool bending_terms(const Vec3 p[4], const double w[4], double rest_angle, Bendin
   return denominator > kTiny && denominator > kNoiseGradient * (w[0] + w[1] + w[2] + w[3]) * largest;
 }
 
+/// The factor in (0, 1] that shortens the bending corrections `corr` of the
+/// constraint on p to its trust region (constraints.h): max_i |corr_i| at most
+/// q |p2 - p1|, with q^2 = denominator / ((sum_j w_j) max_j |grad_j C|^2).
+double trust_region_factor(const Vec3 p[4], const double w[4], const Vec3 grad[4], double denominator,
+                           const Vec3 corr[4]) {
+  double longest = 0, largest = 0;
+  for (int i = 0; i < 4; ++i) {
+    longest = std::max(longest, corr[i].squaredNorm());
+    largest = std::max(largest, grad[i].squaredNorm());
+  }
+  const double step = longest * ((w[0] + w[1] + w[2] + w[3]) * largest);
+  const double reach = (p[1] - p[0]).squaredNorm() * denominator;
+  return step > reach ? std::sqrt(reach / step) : 1.0;
+}
+
 }  // namespace
 
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
@@ -125,6 +140,8 @@ bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const
   Vec3 grad[4];
   if (!bending_terms(p, w, rest_angle, kind, C, grad, denominator)) return false;
   for (int i = 0; i < 4; ++i) corr[i] = (-stiffness * C * w[i] / denominator) * grad[i];  // eq. (13) with masses
+  const double shorten = trust_region_factor(p, w, grad, denominator, corr);
+  for (int i = 0; i < 4; ++i) corr[i] *= shorten;
   return true;
 }
 
@@ -152,9 +169,12 @@ bool xpbd_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Ve
   double C, denominator;
   Vec3 grad[4];
   if (!bending_terms(p, w, rest_angle, kind, C, grad, denominator)) return false;
-  const double dlambda = (-C - alpha_tilde * lambda) / (denominator + alpha_tilde);  // XPBD eq. (18)
+  double dlambda = (-C - alpha_tilde * lambda) / (denominator + alpha_tilde);  // XPBD eq. (18)
+  for (int i = 0; i < 4; ++i) corr[i] = (w[i] * dlambda) * grad[i];              // XPBD eq. (17)
+  const double shorten = trust_region_factor(p, w, grad, denominator, corr);
+  dlambda *= shorten;
+  for (int i = 0; i < 4; ++i) corr[i] *= shorten;
   lambda += dlambda;
-  for (int i = 0; i < 4; ++i) corr[i] = (w[i] * dlambda) * grad[i];  // XPBD eq. (17)
   return true;
 }
 

@@ -39,8 +39,9 @@ bool paper_arccos_gradient(const Vec3& p1, const Vec3& p2, const Vec3& p3, const
 /// sign(theta) grad theta, sign(0) = 1) or C = theta - theta0 (Signed), and
 /// dp_i = -k w_i C grad_i C / (sum_j w_j |grad_j C|^2) (eq. 13 with masses; the
 /// paper's eq. 26 with its factor 4 is not used). rest_angle is the signed rest
-/// angle theta0. False (zero corrections) when the angle is degenerate or the
-/// denominator is <= kTiny or <= kNoiseGradient (sum_j w_j) max_j |grad_j C|^2.
+/// angle theta0. False (zero corrections) when the angle is degenerate, the
+/// denominator is <= kTiny or <= kNoiseGradient (sum_j w_j) max_j |grad_j C|^2. A step
+/// beyond its trust region (constraints.h) is shortened to reach its edge.
 bool project_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
                      double w4, double rest_angle, double stiffness, Vec3 corr[4], BendingAngle kind);
 

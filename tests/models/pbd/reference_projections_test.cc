@@ -271,6 +271,71 @@ TEST(ReferenceProjections, SimdBendingKernelsAgreeWithTheReference) {
 /// The kernels in single precision against the (double) reference on the
 /// well-conditioned random cases: to single precision's rounding, with the same
 /// error measure as above.
+TEST(ReferenceProjections, BendingStepsAreEquation13ShortenedToTheirTrustRegion) {
+  // constraints.h: the longest step at most q |p2 - p1|, q^2 = sum_j w_j |g_j|^2 /
+  // ((sum_j w_j) max_j |g_j|^2); inside, eq. (13) itself; beyond, eq. (13) scaled
+  // to reach the edge. The kernels follow the reference (the test above).
+  const double k = 0.7;
+  int inside = 0, shortened = 0;
+  for (const Bend& b : bending_cases()) {
+    double theta;
+    Vec3 g[4];
+    if (!reference::dihedral_angle(b.p[0], b.p[1], b.p[2], b.p[3], theta, g)) continue;
+    if (std::abs(theta) > kPi - 1e-6) continue;  // the signed angle's jump: C's side is the rounding's
+    Vec3 r[4];
+    if (!reference::project_bending(b.p[0], b.w[0], b.p[1], b.w[1], b.p[2], b.w[2], b.p[3], b.w[3], b.rest, k, r,
+                                    BendingAngle::Signed))
+      continue;
+    double denominator = 0, largest = 0, longest_eq13 = 0, longest = 0;
+    for (int j = 0; j < 4; ++j) {
+      denominator += b.w[j] * g[j].squaredNorm();
+      largest = std::max(largest, g[j].squaredNorm());
+    }
+    Vec3 eq13[4];
+    for (int j = 0; j < 4; ++j) {
+      eq13[j] = (-k * (theta - b.rest) * b.w[j] / denominator) * g[j];
+      longest_eq13 = std::max(longest_eq13, eq13[j].norm());
+      longest = std::max(longest, r[j].norm());
+    }
+    const double reach =
+        std::sqrt(denominator / ((b.w[0] + b.w[1] + b.w[2] + b.w[3]) * largest)) * (b.p[1] - b.p[0]).norm();
+    ASSERT_LE(longest, reach * (1 + 1e-12));
+    const double scale = longest_eq13 > reach ? reach / longest_eq13 : 1.0;
+    (longest_eq13 > reach ? shortened : inside) += 1;
+    for (int j = 0; j < 4; ++j) ASSERT_LE((r[j] - scale * eq13[j]).norm(), 1e-12 * longest_eq13 * scale + 1e-300);
+  }
+  EXPECT_GT(inside, 1000);  // both sides exercised: the random cases violate by up to 2 pi
+  EXPECT_GT(shortened, 1000);
+}
+
+TEST(ReferenceProjections, AFreeHingeEndWhoseGradientNearlyVanishesBarelyMoves) {
+  // Only p1 free, the wings' feet 1e-4 short of p2: moving p1 changes the angle by
+  // 1e-4 of what moving a wing does. Eq. (13) alone would move p1 by |C| / |grad|,
+  // about 1e3 hinge lengths for C = 0.1; the trust region keeps it within q |e|.
+  std::mt19937 rng(21);
+  Bend b = hinge(0.0, 1, 1, 1 - 1e-4, 1 - 1e-4, rng);
+  b.w[0] = 1;
+  b.w[1] = b.w[2] = b.w[3] = 0;
+  b.rest = 0.1;
+  double theta;
+  Vec3 g[4];
+  ASSERT_TRUE(reference::dihedral_angle(b.p[0], b.p[1], b.p[2], b.p[3], theta, g));
+  const double hinge_length = (b.p[1] - b.p[0]).norm();
+  ASSERT_GT(std::abs(theta - b.rest) / g[0].norm(), 100 * hinge_length);  // eq. (13)'s step
+  const double q = g[0].norm() / std::max({g[1].norm(), g[2].norm(), g[3].norm()});
+  ASSERT_LT(q, 1e-3);
+  Vec3 r[4];
+  ASSERT_TRUE(reference::project_bending(b.p[0], b.w[0], b.p[1], b.w[1], b.p[2], b.w[2], b.p[3], b.w[3], b.rest, 1.0,
+                                         r, BendingAngle::Signed));
+  EXPECT_NEAR(r[0].norm(), q * hinge_length, 1e-9 * q * hinge_length);
+  EXPECT_GT(r[0].dot(-(theta - b.rest) * g[0]), 0);  // still down the gradient of C^2
+  for (InstructionSet isa : instruction_sets()) {
+    Eigen::MatrixXd sc, bc;
+    kernel_corrections({}, {b}, 1.0, 1.0, BendingAngle::Signed, isa, sc, bc);
+    EXPECT_NEAR(bc.row(0).head<3>().norm(), q * hinge_length, 1e-9 * q * hinge_length) << name(isa);
+  }
+}
+
 TEST(ReferenceProjections, SinglePrecisionKernelsAgreeWithTheReferenceToFloatRounding) {
   std::vector<Bend> bends = bending_cases();
   bends.resize(20000);  // the random ones

@@ -105,14 +105,19 @@ TEST(XpbdUpdate, SolvesTheLinearisedCompliantConstraintByFiniteDifferences) {
         directional_difference([&](double t) { return stretch_constraint(a + t * ca, b + t * cb, rest); }, h);
     EXPECT_NEAR(C + dC + alpha_tilde * lambda, 0.0, 1e-7 * (std::abs(C) + alpha_tilde * std::abs(lambda) + 1e-3)) << k;
 
-    // Bending (unsigned, the paper's eq. 19), away from theta = 0 where |theta| kinks.
+    // Bending (unsigned, the paper's eq. 19), away from theta = 0 where |theta| kinks,
+    // with C and alpha~ lambda0 at most 0.03 rad: steps well inside their trust region
+    // (constraints.h), where the update is XPBD's, unshortened.
     Vec3 p[4], corr[4];
-    random_hinge((k % 2 ? 1 : -1) * (0.3 + 2.5 * P(rng)), rng, p);
-    const double w[4] = {0.2 + P(rng), 0.2 + P(rng), 0.2 + P(rng), 0.2 + P(rng)}, rest_angle = kPi * U(rng);
-    double mu = lambda0;
+    const double theta = (k % 2 ? 1 : -1) * (0.3 + 2.5 * P(rng));
+    random_hinge(theta, rng, p);
+    const double w[4] = {0.2 + P(rng), 0.2 + P(rng), 0.2 + P(rng), 0.2 + P(rng)};
+    const double rest_angle = (U(rng) < 0 ? -1 : 1) * (std::abs(theta) + 0.03 * U(rng));
+    const double mu0 = 0.03 * lambda0 / std::max(alpha_tilde, 1.0);
+    double mu = mu0;
     ASSERT_TRUE(reference::xpbd_bending(p[0], w[0], p[1], w[1], p[2], w[2], p[3], w[3], rest_angle, alpha_tilde, mu,
                                         corr, BendingAngle::Unsigned));
-    const double dmu = mu - lambda0;
+    const double dmu = mu - mu0;
     // constraints.h's C = |theta| - phi0 takes the unsigned rest angle phi0 = |theta0|.
     auto bend_at = [&](const Vec3 q[4]) { return bending_constraint(q[0], q[1], q[2], q[3], std::abs(rest_angle)); };
     for (int i = 0; i < 4; ++i) {
