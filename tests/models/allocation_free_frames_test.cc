@@ -51,6 +51,10 @@ std::vector<Case> every_model() {
   cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}});
   cases.push_back({"pbd", {{"threads", 2}}});
   cases.push_back({"hybrid", {{"threads", 2}}});
+  cases.push_back({"pbd", {{"domains", 2}, {"threads", 2}}});  // positions copied in and out in domain order
+  cases.push_back({"hybrid", {{"domains", 2}, {"threads", 2}, {"precision", "single"}}});
+  cases.push_back({"pbd", {{"substeps", 3}}});
+  cases.push_back({"hybrid", {{"substeps", 2}, {"surface_support", "coarse_fem"}}});
   cases.push_back({"pbd", {{"kernels", "reference"}}});
   cases.push_back({"pbd", {{"precision", "single"}}});
   cases.push_back({"hybrid", {{"load_spread", "surface_triangle"}}});
