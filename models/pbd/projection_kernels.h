@@ -112,8 +112,8 @@ TB_PBD_INLINE auto project_bending(const Triple<T> p[4], const T w[4], T rest_an
   }
   const T scale = (w[0] + w[1] + w[2] + w[3]) * largest;  // denom / scale = q^2 in (0, 1]
   ok = ok & (denom > lanes::splat<T>(kTiny)) &
-       (denom > lanes::splat<T>(std::is_same_v<lanes::Element<T>, float> ? kNoiseGradientSingle : kNoiseGradient) *
-                    scale);
+       (denom >
+        lanes::splat<T>(std::is_same_v<lanes::Element<T>, float> ? kNoiseGradientSingle : kNoiseGradient) * scale);
   // The reciprocal of denom does not wait for the angle (c): off the critical path.
   const T inv_denom = lanes::splat<T>(1) / lanes::select(ok, denom, lanes::splat<T>(1));
   T s = lanes::select(ok, lanes::splat<T>(-stiffness) * c * inv_denom, T{});

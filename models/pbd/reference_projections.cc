@@ -170,7 +170,7 @@ bool xpbd_bending(const Vec3& p1, double w1, const Vec3& p2, double w2, const Ve
   Vec3 grad[4];
   if (!bending_terms(p, w, rest_angle, kind, C, grad, denominator)) return false;
   double dlambda = (-C - alpha_tilde * lambda) / (denominator + alpha_tilde);  // XPBD eq. (18)
-  for (int i = 0; i < 4; ++i) corr[i] = (w[i] * dlambda) * grad[i];              // XPBD eq. (17)
+  for (int i = 0; i < 4; ++i) corr[i] = (w[i] * dlambda) * grad[i];            // XPBD eq. (17)
   const double shorten = trust_region_factor(p, w, grad, denominator, corr);
   dlambda *= shorten;
   for (int i = 0; i < 4; ++i) corr[i] *= shorten;

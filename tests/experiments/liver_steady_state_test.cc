@@ -12,7 +12,6 @@
 #include <sstream>
 
 #include "mesh_io.h"
-
 #include "runner.h"
 #include "scenario.h"
 #include "test_support.h"

@@ -13,6 +13,7 @@
 #include "load_mapping.h"
 #include "pbd_solver.h"
 #include "projection_kernels.h"
+#include "shapes.h"
 #include "test_support.h"
 
 namespace tb::pbd {
@@ -80,13 +81,15 @@ TEST(LaneMath, SinglePrecisionAtan2AgreesWithTheCLibraryAndIsTheSameInEveryLane)
   EXPECT_EQ(lanes::atan2(0.0f, -2.0f), static_cast<float>(M_PI));
 }
 
-/// The cube's surface, randomly disturbed, with its bottom fixed.
-struct DisturbedCube {
-  const SurfaceMesh& surface = testing::scenario_mesh("cube-pull", false).fine_surface;
+/// A surface (by default the paper cube's), randomly disturbed, with its
+/// vertices at z = 0 fixed.
+struct DisturbedSurface {
+  SurfaceMesh surface;
   ConstraintSet constraints = build_constraints(surface);
   Eigen::VectorXd inverse_mass;
   Points positions;
-  DisturbedCube() {
+  explicit DisturbedSurface(SurfaceMesh s = testing::scenario_mesh("cube-pull", false).fine_surface)
+      : surface(std::move(s)) {
     std::vector<char> fixed(static_cast<size_t>(surface.V.rows()));
     for (Eigen::Index v = 0; v < surface.V.rows(); ++v) fixed[static_cast<size_t>(v)] = surface.V(v, 2) == 0.0;
     inverse_mass = inverse_masses(surface, 1000, fixed);
@@ -96,6 +99,7 @@ struct DisturbedCube {
     for (Eigen::Index i = 0; i < positions.size(); ++i) positions.data()[i] += U(rng);
   }
 };
+using DisturbedCube = DisturbedSurface;
 
 /// One forward or reverse sweep as plain Gauss-Seidel in precision S: the
 /// kernels on one constraint at a time (for double, what constraints.h's
@@ -332,56 +336,65 @@ TEST(ConstraintBatches, SolverResultDoesNotDependOnItsThreadCount) {
 /// domains; the sweep still equals one-at-a-time projection in the batches' order
 /// and is bitwise the same on any number of threads.
 TEST(ConstraintBatches, DomainsAreIndependentAndTheirSweepIsBitwiseTheSameOnAnyThreads) {
-  const DisturbedCube cube;
-  for (int domains : {2, 3, 5}) {
-    const std::vector<int> domain = bisect_into_domains(cube.surface.V, domains);
-    for (InstructionSet isa : instruction_sets()) {
-      const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double),
-                                      Precision::Double, domain);
-      for (const auto* layout : {&batches.stretch_layout(), &batches.bending_layout()}) {
-        const bool stretch = layout == &batches.stretch_layout();
-        const std::vector<int>& order = stretch ? batches.stretch_order() : batches.bending_order();
-        ASSERT_EQ(layout->domain_count(), static_cast<size_t>(domains));
-        size_t next = 0, interface = 0;
-        for (size_t g = 0; g <= layout->domain_count(); ++g) {
-          const size_t end = layout->colours.begin[layout->group_begin[g + 1]];
-          for (size_t b = layout->colours.begin[layout->group_begin[g]]; b < end; ++b)
-            for (int l = 0; l < layout->count[b]; ++l, ++next) {
-              std::set<int> touched;
-              for (int j = 0; j < (stretch ? 2 : 4); ++j)
-                touched.insert(domain[static_cast<size_t>(stretch ? cube.constraints.stretch(order[next], j)
-                                                                  : cube.constraints.bending(order[next], j))]);
-              if (g < layout->domain_count()) {
-                EXPECT_EQ(touched, std::set<int>{static_cast<int>(g)}) << "domain " << g;
-              } else {
-                EXPECT_GT(touched.size(), 1u) << "interface";
-                ++interface;
+  // The paper cube, and two surfaces a bisection plane cuts less neatly: a torus
+  // (each plane cuts its ring twice) and a non-convex L-block.
+  for (const std::string shape : {"cube", "torus", "l_block"}) {
+    const DisturbedSurface cube =
+        shape == "cube" ? DisturbedSurface() : DisturbedSurface(make_shape_surface({shape, 10}));
+    SCOPED_TRACE(shape);
+    for (int domains : {2, 3, 5}) {
+      const std::vector<int> domain = bisect_into_domains(cube.surface.V, domains);
+      for (InstructionSet isa : instruction_sets()) {
+        const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double),
+                                        Precision::Double, domain);
+        for (const auto* layout : {&batches.stretch_layout(), &batches.bending_layout()}) {
+          const bool stretch = layout == &batches.stretch_layout();
+          const std::vector<int>& order = stretch ? batches.stretch_order() : batches.bending_order();
+          ASSERT_EQ(layout->domain_count(), static_cast<size_t>(domains));
+          size_t next = 0, interface = 0;
+          for (size_t g = 0; g <= layout->domain_count(); ++g) {
+            const size_t end = layout->colours.begin[layout->group_begin[g + 1]];
+            for (size_t b = layout->colours.begin[layout->group_begin[g]]; b < end; ++b)
+              for (int l = 0; l < layout->count[b]; ++l, ++next) {
+                std::set<int> touched;
+                for (int j = 0; j < (stretch ? 2 : 4); ++j)
+                  touched.insert(domain[static_cast<size_t>(stretch ? cube.constraints.stretch(order[next], j)
+                                                                    : cube.constraints.bending(order[next], j))]);
+                if (g < layout->domain_count()) {
+                  EXPECT_EQ(touched, std::set<int>{static_cast<int>(g)}) << "domain " << g;
+                } else {
+                  EXPECT_GT(touched.size(), 1u) << "interface";
+                  ++interface;
+                }
               }
-            }
+          }
+          EXPECT_EQ(next, order.size());
+          // Bisection planes cut few edges: the interface is a small part, growing
+          // with the cuts (on the paper's 682-vertex cube).
+          if (shape == "cube") {
+            EXPECT_LT(interface, order.size() * static_cast<size_t>(domains - 1) / 10) << domains << " domains";
+          }
+          RecordProperty(shape + (stretch ? "_stretch_interface_" : "_bending_interface_") + std::to_string(domains),
+                         std::to_string(interface) + " of " + std::to_string(order.size()));
         }
-        EXPECT_EQ(next, order.size());
-        // Bisection planes cut few edges: the interface is a small part, growing
-        // with the cuts (on the paper's 682-vertex cube).
-        EXPECT_LT(interface, order.size() * static_cast<size_t>(domains - 1) / 10) << domains << " domains";
-        RecordProperty((stretch ? "stretch_interface_" : "bending_interface_") + std::to_string(domains),
-                       std::to_string(interface) + " of " + std::to_string(order.size()));
-      }
-      PaddedPoints start = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
-      start.leftCols<3>() = cube.positions;
-      Eigen::Matrix<double, -1, 3, Eigen::RowMajor> sequential = cube.positions;
-      PaddedPoints one = start;
-      batches.project(one.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
-      for (int sweep = 0; sweep < 4; ++sweep)
-        sequential_sweep<double>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned);
-      EXPECT_EQ((one.leftCols<3>() - sequential).cwiseAbs().maxCoeff(), 0.0) << domains << " domains";
-      for (int threads : {2, 3, 4}) {
-        ThreadTeam team(threads);
-        PaddedPoints many = start;
-        batches.project(many.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
-        EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << domains << " domains";
+        PaddedPoints start = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
+        start.leftCols<3>() = cube.positions;
+        Eigen::Matrix<double, -1, 3, Eigen::RowMajor> sequential = cube.positions;
+        PaddedPoints one = start;
+        batches.project(one.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+        for (int sweep = 0; sweep < 4; ++sweep)
+          sequential_sweep<double>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned);
+        EXPECT_EQ((one.leftCols<3>() - sequential).cwiseAbs().maxCoeff(), 0.0) << domains << " domains";
+        for (int threads : {2, 3, 4}) {
+          ThreadTeam team(threads);
+          PaddedPoints many = start;
+          batches.project(many.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+          EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << domains << " domains";
+        }
       }
     }
   }
+  const DisturbedCube cube;
   EXPECT_THROW(ConstraintBatches(cube.constraints, cube.inverse_mass, 4, Precision::Double, std::vector<int>(3, 0)),
                std::invalid_argument);
 }

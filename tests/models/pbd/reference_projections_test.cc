@@ -325,8 +325,8 @@ TEST(ReferenceProjections, AFreeHingeEndWhoseGradientNearlyVanishesBarelyMoves) 
   const double q = g[0].norm() / std::max({g[1].norm(), g[2].norm(), g[3].norm()});
   ASSERT_LT(q, 1e-3);
   Vec3 r[4];
-  ASSERT_TRUE(reference::project_bending(b.p[0], b.w[0], b.p[1], b.w[1], b.p[2], b.w[2], b.p[3], b.w[3], b.rest, 1.0,
-                                         r, BendingAngle::Signed));
+  ASSERT_TRUE(reference::project_bending(b.p[0], b.w[0], b.p[1], b.w[1], b.p[2], b.w[2], b.p[3], b.w[3], b.rest, 1.0, r,
+                                         BendingAngle::Signed));
   EXPECT_NEAR(r[0].norm(), q * hinge_length, 1e-9 * q * hinge_length);
   EXPECT_GT(r[0].dot(-(theta - b.rest) * g[0]), 0);  // still down the gradient of C^2
   for (InstructionSet isa : instruction_sets()) {
