@@ -12,11 +12,16 @@
 
 namespace tb::pbd {
 
-/// Recursive coordinate bisection: the vertices split at the median of the
-/// bounding box's longest axis (ties broken by index), recursively, into
-/// `domains` parts whose sizes differ by at most one. Deterministic.
+/// Recursive coordinate bisection: the vertices split at the weighted median of
+/// the longest axis of the bounding box of the vertices with work (ties broken by
+/// index), recursively, into `domains` parts whose work differs by at most one
+/// vertex's. Work balances the threads: a fixed vertex moves nothing (the
+/// constraints among fixed vertices are dropped), so the solver gives it none; by
+/// vertex count alone a plane along the support put 40 % of the constraints on one
+/// side of the 40 346-vertex cube. Deterministic.
 ///   positions  #V by 3
+///   work       #V non-negative weights, or empty: 1 each (sizes differ by at most one)
 ///   returns    #V domain indices in [0, domains); all 0 when domains is 1
-std::vector<int> bisect_into_domains(const Points& positions, int domains);
+std::vector<int> bisect_into_domains(const Points& positions, int domains, const std::vector<double>& work = {});
 
 }  // namespace tb::pbd

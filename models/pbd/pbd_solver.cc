@@ -35,6 +35,14 @@ const Eigen::VectorXd& one_per_vertex(const Eigen::VectorXd& inverse_mass, Eigen
   return inverse_mass;
 }
 
+/// The domains' work per vertex: 1 for a free vertex, 0 for a fixed one (the
+/// constraints among fixed vertices are dropped, so they cost nothing).
+std::vector<double> free_vertices(const Eigen::VectorXd& inverse_mass) {
+  std::vector<double> work(static_cast<size_t>(inverse_mass.size()));
+  for (Eigen::Index v = 0; v < inverse_mass.size(); ++v) work[static_cast<size_t>(v)] = inverse_mass(v) > 0 ? 1 : 0;
+  return work;
+}
+
 }  // namespace
 
 std::vector<ParameterSpec> parameter_specs() {
@@ -210,7 +218,7 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       c_(build_constraints(rest)),
       s_(settings),
       isa_(s_.instruction_set.value_or(best_instruction_set())),
-      domain_(bisect_into_domains(rest.V, s_.domains)),
+      domain_(bisect_into_domains(rest.V, s_.domains, free_vertices(w_))),
       row_of_(s_.domains > 1 ? rows_by_domain(domain_) : std::vector<int>{}),
       batches_(pack_batches(batch_width(isa_, s_.precision))) {
   if (!cpu_supports(isa_))

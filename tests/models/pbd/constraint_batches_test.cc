@@ -430,6 +430,40 @@ TEST(DomainPartition, BisectionGivesBalancedDeterministicSpatialDomains) {
   }
   EXPECT_TRUE(separated);
   EXPECT_THROW(bisect_into_domains(cube.surface.V, 0), std::invalid_argument);
+  EXPECT_THROW(bisect_into_domains(cube.surface.V, 2, std::vector<double>(3, 1.0)), std::invalid_argument);
+  EXPECT_THROW(bisect_into_domains(cube.surface.V, 2, std::vector<double>(static_cast<size_t>(n), -1.0)),
+               std::invalid_argument);
+}
+
+TEST(DomainPartition, WorkWeightsBalanceTheFreeVerticesNotAllVertices) {
+  // A cube 1 % taller than wide, so its longest axis runs through the fixed bottom:
+  // by vertex count one domain would hold the bottom face's vertices, which carry no
+  // work (the 40 346-vertex cube's split was 40 / 60 % of the constraints so).
+  const DisturbedCube cube;
+  Points tall = cube.surface.V;
+  tall.col(2) *= 1.01;
+  std::vector<double> work(static_cast<size_t>(tall.rows()));
+  for (Eigen::Index v = 0; v < tall.rows(); ++v) work[static_cast<size_t>(v)] = cube.inverse_mass(v) > 0 ? 1 : 0;
+  const int free = static_cast<int>(std::count(work.begin(), work.end(), 1.0));
+  ASSERT_LT(free, tall.rows());
+  for (int domains : {2, 3, 4}) {
+    const std::vector<int> by_count = bisect_into_domains(tall, domains),
+                           by_work = bisect_into_domains(tall, domains, work);
+    std::vector<int> free_by_count(static_cast<size_t>(domains), 0), free_by_work(static_cast<size_t>(domains), 0);
+    for (size_t v = 0; v < work.size(); ++v) {
+      free_by_count[static_cast<size_t>(by_count[v])] += work[v] > 0;
+      free_by_work[static_cast<size_t>(by_work[v])] += work[v] > 0;
+    }
+    EXPECT_LE(*std::max_element(free_by_work.begin(), free_by_work.end()) -
+                  *std::min_element(free_by_work.begin(), free_by_work.end()),
+              1)
+        << domains << " domains";
+    if (domains == 2) {  // the contrast: by count the bottom half has the fixed face's vertices and less work
+      EXPECT_GT(free_by_count[1] - free_by_count[0], free / 20);
+    }
+  }
+  // No work anywhere: split by count.
+  EXPECT_EQ(bisect_into_domains(tall, 2, std::vector<double>(work.size(), 0.0)), bisect_into_domains(tall, 2));
 }
 
 TEST(ConstraintBatches, ConstraintOnAVertexWithoutInverseMassIsAnError) {
