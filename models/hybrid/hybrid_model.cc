@@ -128,6 +128,9 @@ class HybridModel : public Model {
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  /// The coarse solve's iterations (CG, corotational updates; 0 for the direct
+  /// solve and the exact_fine_fem ablation), as the embedded model reports them.
+  int last_iterations() const override { return coarse_ ? coarse_->last_iterations() : 0; }
   nlohmann::json report() const override {
     nlohmann::json r = solver_->details();  // the PBD sweep's threads, precision, instruction set
     if (exact_) {
