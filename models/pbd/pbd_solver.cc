@@ -267,21 +267,35 @@ void Solver::substep(double dt, const LoadStencil& load, const Eigen::Vector3d& 
   const auto t0 = Clock::now();
   for (int k = 0; k < 4; ++k)  // eq. (31), the force shared by the load's vertices
     if (load.weights(k) != 0) v_.row(load.nodes(k)) += (dt * w_(load.nodes(k)) * load.weights(k)) * force.transpose();
-  v_ *= (1 - s_.damping);  // per (sub)step: the steady state applies (1 - damping) f for any substeps
-  if (row_of_.empty()) {
-    p_.matrix().leftCols<3>() = x_ + dt * v_;  // eq. (32); fixed vertices have v = 0
-  } else {
-    for (Eigen::Index v = 0; v < x_.rows(); ++v) p_.matrix().row(row(v)).head<3>() = x_.row(v) + dt * v_.row(v);
-  }
+  // Damping (per (sub)step: the steady state applies (1 - damping) f for any
+  // substeps) and eq. (32), fixed vertices having v = 0, written straight into the
+  // rows the sweep moves: float rows for a single-precision sweep (the same
+  // numbers as rounding double rows), vertices shared out over the team.
+  const double keep = 1 - s_.damping;
+  const bool single = s_.kernels == Kernels::Simd && s_.precision == Precision::Single;
+  for_vertex_ranges([&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index v = begin; v < end; ++v) {
+      v_.row(v) *= keep;
+      const Eigen::RowVector3d p = x_.row(v) + dt * v_.row(v);
+      if (single)
+        q_.matrix().row(row(v)).head<3>() = p.cast<float>();
+      else
+        p_.matrix().row(row(v)).head<3>() = p;
+    }
+  });
   const auto t1 = Clock::now();
-  for (size_t k = 0; k < pinned.size(); ++k)
-    p_.matrix().row(row(pinned[k])).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));  // eq. (33)
+  for (size_t k = 0; k < pinned.size(); ++k) {  // eq. (33)
+    const Eigen::Index r = row(pinned[k]);
+    const auto at = pinned_positions.row(static_cast<Eigen::Index>(k));
+    if (single)
+      q_.matrix().row(r).head<3>() = at.cast<float>();
+    else
+      p_.matrix().row(r).head<3>() = at;
+  }
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
-  if (s_.kernels == Kernels::Simd && s_.precision == Precision::Single) {
-    q_.matrix() = p_.matrix().cast<float>();
+  if (single) {
     batches_.project(q_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
-    p_.matrix() = q_.matrix().cast<double>();
   } else if (s_.kernels == Kernels::Simd) {
     batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
   } else if (s_.constraint_solve == ConstraintSolve::Xpbd) {
@@ -292,20 +306,27 @@ void Solver::substep(double dt, const LoadStencil& load, const Eigen::Vector3d& 
     for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
   }
   const auto t2 = Clock::now();
-  if (row_of_.empty()) {
-    v_ = (p_.matrix().leftCols<3>() - x_) / dt;  // eq. (35)
-    x_ = p_.matrix().leftCols<3>();              // eq. (34)
-  } else {
-    for (Eigen::Index v = 0; v < x_.rows(); ++v) {
-      const Eigen::RowVector3d p = p_.matrix().row(row(v)).head<3>();
+  for_vertex_ranges([&](Eigen::Index begin, Eigen::Index end) {  // eqs. (35) and (34)
+    for (Eigen::Index v = begin; v < end; ++v) {
+      const Eigen::RowVector3d p = single ? Eigen::RowVector3d(q_.matrix().row(row(v)).head<3>().cast<double>())
+                                          : Eigen::RowVector3d(p_.matrix().row(row(v)).head<3>());
       v_.row(v) = (p - x_.row(v)) / dt;
       x_.row(v) = p;
     }
-  }
+  });
   const auto t3 = Clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
   projection_ms_ += Ms(t2 - t1).count();
   integration_ms_ += Ms(t1 - t0).count() + Ms(t3 - t2).count();
+}
+
+template <class RangeBody>
+void Solver::for_vertex_ranges(RangeBody&& body) {
+  const Eigen::Index n = x_.rows();
+  if (!team_) return body(Eigen::Index{0}, n);
+  const Eigen::Index members = team_->size();
+  auto task = [&](int member) { body(n * member / members, n * (member + 1) / members); };
+  team_->run(task);
 }
 
 nlohmann::json Solver::details() const {

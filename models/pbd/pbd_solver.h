@@ -174,6 +174,11 @@ class Solver {
   /// One time step of h (eqs. 31-35), timed into projection_ms_ and integration_ms_.
   void substep(double h, const LoadStencil& load, const Eigen::Vector3d& force, const std::vector<int>& pinned,
                const Points& pinned_positions);
+  /// body(begin, end) on vertex ranges covering [0, #V), one per team member (in
+  /// parallel), or once over all of them without a team. The per-vertex work must
+  /// not depend on the range, so that the result does not depend on the thread count.
+  template <class RangeBody>
+  void for_vertex_ranges(RangeBody&& body);
   /// One sweep with the reference projections, in the batches' order.
   void reference_sweep(bool reverse);
   /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
