@@ -212,8 +212,8 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
       faces_(rest.F),
-      p_(rest.V.rows()),
-      q_(0),
+      p_(settings.precision == Precision::Single ? 0 : rest.V.rows()),
+      q_(settings.precision == Precision::Single ? rest.V.rows() : 0),
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
       c_(build_constraints(rest)),
       s_(settings),
@@ -223,7 +223,6 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       batches_(pack_batches(batch_width(isa_, s_.precision))) {
   if (!cpu_supports(isa_))
     throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
-  if (s_.precision == Precision::Single) q_ = PaddedRows<float>(rest.V.rows());
   k_stretch_ =
       s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
   k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;

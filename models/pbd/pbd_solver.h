@@ -148,8 +148,10 @@ class Solver {
  private:
   Points rest_, x_, v_;
   Triangles faces_;      // the rest surface's triangles (load lookup)
-  PaddedPositions p_;    // the predicted positions the projection moves
-  PaddedRows<float> q_;  // the same in single precision, for a single-precision sweep (else empty)
+  // The predicted positions the projection moves, in double (p_) or, for a
+  // single-precision sweep, in float (q_); the other one is empty.
+  PaddedPositions p_;
+  PaddedRows<float> q_;
   Eigen::VectorXd w_;
   ConstraintSet c_;
   Settings s_;
