@@ -177,7 +177,7 @@ def make(root, out_root):
         "incident triangle area), load the vertex nearest the top centre with the scenario's force (1 N on the "
         "682-vertex cube, scaled by 682 / vertices above it as in the scaling experiment), ramped over 50 frames, "
         "time step 10 ms, damping 0.05 of the velocity per frame, stiffness 1, 10 Gauss-Seidel iterations. "
-        "Tissuebench's constraint counts are those of its rule (models/pbd/pbd_solver.cc build_constraints: one "
+        "Tissuebench's constraint counts are those of its rule (models/numerics/pbd/pbd_solver.cc build_constraints: one "
         "stretch constraint per edge, one bending constraint per edge with two triangles), counted on the same "
         "OBJ by the driver; the library's are the constraints its addClothConstraints (method 1) and "
         "addBendingConstraints (method 1) created.\n\n"

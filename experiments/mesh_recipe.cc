@@ -253,8 +253,8 @@ void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshRe
     const auto& c = h.control_points[k];
     cp.row(static_cast<Eigen::Index>(k)) = h.fine_surface.V.row(c.surface_vertex);
     ids(static_cast<Eigen::Index>(k), 0) = c.surface_vertex;
-    csv << c.surface_vertex << ',' << c.coarse_tet << ',' << c.weights(0) << ',' << c.weights(1) << ',' << c.weights(2)
-        << ',' << c.weights(3) << '\n';
+    csv << c.surface_vertex << ',' << c.coarse.tet << ',' << c.coarse.weights(0) << ',' << c.coarse.weights(1) << ',' << c.coarse.weights(2)
+        << ',' << c.coarse.weights(3) << '\n';
   }
   write_points_vtu((d / "control_points.vtu").string(), cp, {{"surface_vertex", ids}});
   write_file_atomically((d / "control_points.csv").string(), csv.str());
@@ -294,7 +294,7 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream ls(line);
     ControlPoint cp;
-    if (!(ls >> cp.surface_vertex >> cp.coarse_tet >> cp.weights(0) >> cp.weights(1) >> cp.weights(2) >> cp.weights(3)))
+    if (!(ls >> cp.surface_vertex >> cp.coarse.tet >> cp.coarse.weights(0) >> cp.coarse.weights(1) >> cp.coarse.weights(2) >> cp.coarse.weights(3)))
       throw MeshError(csv_path, "malformed control point line '" + line + "'");
     h.control_points.push_back(cp);
   }

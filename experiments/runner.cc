@@ -146,7 +146,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   out.case_name = run.case_name;
   const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
-  Problem problem{&mesh, s.material, s.support, run.parameters};
+  Problem problem{&mesh, s.material, s.load_case(), run.parameters};
+  check_supported(info, problem.load_case);  // an unsupported load stops here, before setup
   std::unique_ptr<Model> model = info.create();
 
   const auto t0 = Clock::now();
@@ -185,11 +186,12 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   for (const PhaseTime& p : model->last_phase_times()) phase_ms.emplace_back(p.name, std::vector<double>());
   Displacements previous = Displacements::Zero(rest.rows(), 3);
   double last_change = 0;
+  FrameLoads loads;
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < budget; ++frame) {
-    const PointLoad load = s.load_at(frame);
+    s.loads_at(frame, loads);
     const auto a = Clock::now();
-    model->step(load);
+    model->step(loads);
     const auto b = Clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
     iterations.push_back(model->last_iterations());

@@ -76,10 +76,18 @@ void resolve_on_mesh(Scenario& s, const SurfaceMesh& surface) {
   }
 }
 
-PointLoad Scenario::load_at(int frame) const {
-  PointLoad l = load;
-  if (ramp_frames > 0 && frame < ramp_frames) l.force *= static_cast<double>(frame + 1) / ramp_frames;
-  return l;
+LoadCase Scenario::load_case() const {
+  LoadCase c;
+  c.support = support;
+  c.loads.push_back(load.disc_radius > 0 ? Load::surface_traction(load.point, load.disc_radius, "load")
+                                         : Load::point_force(load.point, "load"));
+  return c;
+}
+
+void Scenario::loads_at(int frame, FrameLoads& out) const {
+  out.values.resize(1);
+  out.values[0] = load.force;
+  if (ramp_frames > 0 && frame < ramp_frames) out.values[0] *= static_cast<double>(frame + 1) / ramp_frames;
 }
 
 namespace {

@@ -11,6 +11,15 @@
 
 namespace tb {
 
+/// The scenario file's `load`: a point force, or with disc_radius > 0 the same total
+/// force as a uniform traction on the disc of that radius around `point` on the
+/// surface (load_case.h's point_force and surface_traction).
+struct PointLoad {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< m, rest configuration
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  ///< N, the full force (after the ramp)
+  double disc_radius = 0;                           ///< m; 0: the paper's point load
+};
+
 /// One model to run in a scenario: `case_name` names its output folder
 /// (e.g. "fem-direct"), `model` the registered model.
 struct ModelRun {
@@ -45,8 +54,12 @@ struct Scenario {
   std::string sweep_base;
   nlohmann::json sweep_values = nlohmann::json::object(), sweep_keys = nlohmann::json::object();
 
-  /// The load of frame `frame` (0-based): ramped, then constant.
-  PointLoad load_at(int frame) const;
+  /// The support and the loads as every model receives them (load_case.h); call
+  /// resolve_on_mesh first when the scenario places them relative to the mesh.
+  LoadCase load_case() const;
+  /// Each load's value at frame `frame` (0-based): ramped, then constant. No
+  /// allocation once `out` has its size.
+  void loads_at(int frame, FrameLoads& out) const;
   /// Every value as resolved, defaults included (run.json "scenario_resolved");
   /// the model list is not included (each run.json holds its own model).
   nlohmann::json to_json() const;

@@ -82,8 +82,8 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
     if (coarse.node_vertex[n] >= n_surface) continue;
     ControlPoint cp;
     cp.surface_vertex = coarse.node_vertex[n];
-    cp.coarse_tet = node_tet[n];
-    cp.weights = Eigen::Vector4d::Unit(node_slot[n]);
+    cp.coarse.tet = node_tet[n];
+    cp.coarse.weights = Eigen::Vector4d::Unit(node_slot[n]);
     h.control_points.push_back(cp);
   }
   return h;
@@ -102,7 +102,7 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
   const TetLocator locator(coarse);
   for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
     const TetEmbedding e = locator.locate(surface.V.row(v).transpose());
-    embedding[static_cast<size_t>(v)] = {static_cast<int>(v), e.tet, e.weights};
+    embedding[static_cast<size_t>(v)] = {static_cast<int>(v), e};
   }
   std::vector<int> chosen;
   if (rule == ControlPointRule::AllSurfaceVertices) {

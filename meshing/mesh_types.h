@@ -28,13 +28,23 @@ struct TetMesh {
   Tetrahedra T;
 };
 
+/// A point expressed in one tet of a mesh: p = sum_k weights[k] * V[T(tet, k)]. The
+/// one point-in-tet type of the project: control points, coarse embeddings and
+/// loads mapped into volumes all use it. Weights are the (unclamped) barycentric
+/// coordinates, so a point just outside its tet is reproduced exactly too;
+/// `distance` is 0 inside, else the distance from the point to the tet.
+struct TetEmbedding {
+  int tet = -1;
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();
+  double distance = 0;
+};
+
 /// A fine-surface vertex tied to the coarse volume: its position is the barycentric
 /// combination of the coarse tet's nodes (eq. 33 places it there every frame).
-/// When the vertex coincides with a coarse node, weights is a unit vector.
+/// When the vertex coincides with a coarse node, coarse.weights is a unit vector.
 struct ControlPoint {
-  int surface_vertex = -1;              ///< index into the fine surface's V
-  int coarse_tet = -1;                  ///< index into the coarse volume's T
-  Eigen::Vector4d weights{1, 0, 0, 0};  ///< barycentric weights, sum to 1
+  int surface_vertex = -1;  ///< index into the fine surface's V
+  TetEmbedding coarse;      ///< where it sits in the coarse volume
 };
 
 /// What the coarse mesh's sliver repair did (meshing/coarse_mesh.h), reported in summary.json.

@@ -8,16 +8,6 @@
 
 namespace tb {
 
-/// A point expressed in one tet: p = sum_k weights[k] * V[T(tet, k)].
-/// Weights are the (unclamped) barycentric coordinates, so a point outside its
-/// tet is reproduced exactly too; `distance` is 0 inside, else the distance from
-/// the point to the tet.
-struct TetEmbedding {
-  int tet = -1;
-  Eigen::Vector4d weights = Eigen::Vector4d::Zero();
-  double distance = 0;
-};
-
 /// Barycentric coordinates of p in tet (a, b, c, d).
 Eigen::Vector4d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                             const Eigen::Vector3d& d, const Eigen::Vector3d& p);

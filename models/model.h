@@ -10,47 +10,18 @@
 #include <string>
 #include <vector>
 
+#include "load_case.h"
 #include "material.h"
 #include "mesh_types.h"
 #include "parameters.h"
 
 namespace tb {
 
-/// Vertices whose rest position lies in [min, max] (component-wise) are clamped.
-struct SupportBox {
-  Eigen::Vector3d min = Eigen::Vector3d::Constant(-1e300), max = Eigen::Vector3d::Constant(1e300);
-  bool contains(const Eigen::Vector3d& p) const {
-    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
-  }
-  /// #V flags: 1 where the row of V is clamped.
-  std::vector<char> select(const Points& V) const;
-  /// select(V), checked to hold the body: at least three clamped nodes not on
-  /// one line, else a std::invalid_argument naming this box, `mesh_name` and the
-  /// counts (a support that leaves rigid motions free makes K singular and PBD
-  /// drift). Every model calls it for every mesh it uses, before factorising.
-  std::vector<char> clamp(const Points& V, const std::string& mesh_name) const;
-};
-
-/// A point force: `force` (N) acting at `point` (m) in the rest configuration.
-/// With disc_radius > 0 (m) the same total force is a uniform traction on the disc
-/// of that radius around `point` on the surface (models/fem/surface_load.h); 0 is
-/// the paper's point load. A model without disc loads throws std::invalid_argument
-/// naming load.disc_radius.
-struct PointLoad {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  double disc_radius = 0;
-};
-
-/// For models that take only the paper's point load: throws std::invalid_argument
-/// naming `model` and load.disc_radius unless load.disc_radius is 0.
-void require_point_load(const PointLoad& load, const char* model);
-
 /// Everything a model needs to set itself up. The mesh outlives the model.
 struct Problem {
   const HybridMesh* mesh = nullptr;
   Material material;
-  SupportBox support;
+  LoadCase load_case;     ///< the support and the loads, placed in the rest configuration
   Parameters parameters;  ///< the model's own, resolved against its specs
 };
 
@@ -76,10 +47,14 @@ struct PhaseTime {
 class Model {
  public:
   virtual ~Model() = default;
-  /// Meshes, material, support; precomputation (assembly, factorisation ...).
+  /// Meshes, material, support, where each load acts; precomputation (assembly,
+  /// factorisation ...). Only loads of the kinds ModelInfo::loads lists arrive.
   virtual void setup(const Problem& problem) = 0;
-  /// One frame under `load`: a static solve (FEM) or one time step (PBD, hybrid).
-  virtual void step(const PointLoad& load) = 0;
+  /// One frame under the loads' values (one per problem.load_case.loads): a static
+  /// solve (FEM) or one time step (PBD, hybrid). Allocates nothing on the heap
+  /// after the first frame (tests/models/allocation_free_frames_test.cc checks every
+  /// registered model; docs/extending.md).
+  virtual void step(const FrameLoads& loads) = 0;
   /// Displacement of every fine-surface vertex after the last step.
   virtual const Displacements& surface_displacement() const = 0;
   /// Solver iterations in the last step, where meaningful (else 0).
@@ -98,18 +73,30 @@ class Model {
   }
 };
 
-/// A registered model: its name, what it is, its parameters and how to make one.
+/// A registered model: its name, what it is, its parameters, the loads it takes
+/// and how to make one.
 struct ModelInfo {
-  std::string name;
+  std::string name;  ///< [a-z0-9_]+, unique (checked at registration)
   std::string description;
   bool dynamic = false;  ///< advances in time: run until steady (else one solve per frame)
   std::vector<ParameterSpec> parameters;
   std::function<std::unique_ptr<Model>()> create;
+  std::vector<LoadKind> loads = {LoadKind::PointForce};  ///< the kinds of load it takes
+  bool takes(LoadKind kind) const;
 };
 
-/// Every model, in one explicit list (models/registry.cc).
+/// Every model, in one explicit list (models/registry.cc). The first call checks
+/// the names (validate_registry) and throws std::logic_error naming the offender.
 const std::vector<ModelInfo>& registered_models();
 /// The model called `name`; throws std::invalid_argument listing the known names.
 const ModelInfo& find_model(const std::string& name);
+/// Throws std::logic_error unless every name is [a-z0-9_]+ and unique: names
+/// become folder names and test names (GoogleTest refuses a hyphen there).
+void validate_registry(const std::vector<ModelInfo>& models);
+
+/// Throws std::invalid_argument, before anything is set up, when `model` does not
+/// take a load of `load_case`: "model 'pbd' does not take surface_traction loads
+/// (loads[1]); it takes point_force, body_force".
+void check_supported(const ModelInfo& model, const LoadCase& load_case);
 
 }  // namespace tb

@@ -1,4 +1,5 @@
-// Every model, listed explicitly in one place (STYLE.md 7). Adding a variant: one
+// Every model, listed explicitly in one place (docs/extending.md: models are
+// registered from one function, not by static initialisers). Adding a variant: one
 // folder under models/, one line here, one scenario entry.
 #include <sstream>
 #include <stdexcept>
@@ -14,11 +15,45 @@
 namespace tb {
 
 const std::vector<ModelInfo>& registered_models() {
-  static const std::vector<ModelInfo> models = {
-      fem_model_info(),       pbd_model_info(),      hybrid_model_info(),
-      condensed_model_info(), embedded_model_info(), fem_distributed_model_info(),
-  };
+  static const std::vector<ModelInfo> models = [] {
+    std::vector<ModelInfo> list = {
+        fem_model_info(),       pbd_model_info(),      hybrid_model_info(),
+        condensed_model_info(), embedded_model_info(), fem_distributed_model_info(),
+    };
+    validate_registry(list);
+    return list;
+  }();
   return models;
+}
+
+void validate_registry(const std::vector<ModelInfo>& models) {
+  for (size_t i = 0; i < models.size(); ++i) {
+    const std::string& name = models[i].name;
+    const bool valid = !name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") ==
+                                            std::string::npos;
+    if (!valid)
+      throw std::logic_error("model name '" + name +
+                             "' (models/registry.cc): use lower-case letters, digits and '_' only; it names result "
+                             "folders and test cases");
+    for (size_t j = 0; j < i; ++j)
+      if (models[j].name == name) throw std::logic_error("model name '" + name + "' registered twice (models/registry.cc)");
+  }
+}
+
+bool ModelInfo::takes(LoadKind kind) const {
+  for (LoadKind k : loads)
+    if (k == kind) return true;
+  return false;
+}
+
+void check_supported(const ModelInfo& model, const LoadCase& load_case) {
+  for (const Load& load : load_case.loads) {
+    if (model.takes(load.kind)) continue;
+    std::string takes;
+    for (LoadKind k : model.loads) takes += (takes.empty() ? "" : ", ") + std::string(name(k));
+    throw std::invalid_argument("model '" + model.name + "' does not take " + name(load.kind) + " loads (" + load.key +
+                                "); it takes " + (takes.empty() ? "none" : takes));
+  }
 }
 
 const ModelInfo& find_model(const std::string& name) {
@@ -28,14 +63,6 @@ const ModelInfo& find_model(const std::string& name) {
     known << (known.tellp() > 0 ? ", " : "") << m.name;
   }
   throw std::invalid_argument("unknown model '" + name + "' (registered: " + known.str() + ")");
-}
-
-void require_point_load(const PointLoad& load, const char* model) {
-  if (load.disc_radius == 0) return;
-  std::ostringstream msg;
-  msg << model << ": load.disc_radius " << load.disc_radius
-      << " asks for a disc load, which this model does not support; use disc_radius 0 (the paper's point load)";
-  throw std::invalid_argument(msg.str());
 }
 
 }  // namespace tb

@@ -1,9 +1,9 @@
-// The support box (model.h): which nodes it clamps, and whether that holds a body.
+// The support box (load_case.h): which nodes it clamps, and whether that holds a body.
 #include <Eigen/Geometry>
 #include <sstream>
 #include <stdexcept>
 
-#include "model.h"
+#include "load_case.h"
 
 namespace tb {
 

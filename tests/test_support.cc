@@ -12,12 +12,18 @@
 namespace tb::testing {
 
 std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
-                                    const nlohmann::json& parameters) {
+                                    const nlohmann::json& parameters, const std::vector<Load>& loads) {
   const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
+  Problem p{&mesh, Material{}, LoadCase{support, loads}, resolve_parameters(info.parameters, parameters, name)};
   auto m = info.create();
   m->setup(p);
   return m;
+}
+
+std::unique_ptr<ElasticSolve> make_solve(const ElasticBody& body, const nlohmann::json& given,
+                                         const TetMesh* coarse_space) {
+  return make_elastic_solve(body, resolve_parameters(elastic_solve_parameters("", "direct", "ic"), given, "test"), "",
+                            {coarse_space});
 }
 
 const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume, bool symmetric_fine_volume) {

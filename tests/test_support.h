@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "elastic_solve.h"
 #include "mesh_types.h"
 #include "model.h"
 
@@ -18,11 +19,31 @@ namespace tb::testing {
 /// The support of the paper's cube scenarios: the bottom face z = 0 clamped.
 inline const SupportBox kCubeBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
 
+/// A point force for tests: where it acts (rest configuration) and its value.
+struct PointForce {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  /// The load case's one load, and this frame's value of it.
+  std::vector<Load> loads() const { return {Load::point_force(point)}; }
+  FrameLoads frame() const { return frame_of(force); }
+  /// The same point with force `scale` times this one's.
+  PointForce scaled(double scale) const { return {point, scale * force}; }
+};
+/// The paper's cube pull: 1 N up at the top centre.
+inline const PointForce kCubePull{{0, 0, 0.1}, {0, 0, 1}};
+
 /// The registered model `name` set up on `mesh` with the default material,
-/// `support` and `parameters` (resolved against its specs).
+/// `support`, `loads` and `parameters` (resolved against its specs).
 std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh,
                                     const SupportBox& support = kCubeBottom,
-                                    const nlohmann::json& parameters = nlohmann::json::object());
+                                    const nlohmann::json& parameters = nlohmann::json::object(),
+                                    const std::vector<Load>& loads = kCubePull.loads());
+
+/// The elastic solve `given` asks for, e.g. {"solver": "corotational",
+/// "cg_tolerance": 1e-10} (the fem model's parameter names; unnamed ones default),
+/// on `body`, with `coarse_space` for the two-level preconditioner.
+std::unique_ptr<ElasticSolve> make_solve(const ElasticBody& body, const nlohmann::json& given,
+                                         const TetMesh* coarse_space = nullptr);
 
 /// A fresh folder under the system temp dir, removed at destruction.
 struct TempFolder {

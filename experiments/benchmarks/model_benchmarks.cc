@@ -1,4 +1,4 @@
-// Google Benchmark of setup and per-frame cost (issues 4 and 5). Named arguments,
+// Google Benchmark of setup and per-frame cost. Named arguments,
 // counters (dofs, tets, vertices, constraints, solver iterations), milliseconds.
 // Run: build/experiments/benchmarks/tissuebench_benchmarks --benchmark_out=FILE
 //      --benchmark_out_format=json (scripts/benchmark does this).
@@ -26,8 +26,14 @@ namespace {
 // Support and load as in experiments/scenarios/{cube,liver}-pull.json.
 const SupportBox kCubeBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
 const SupportBox kLiverBottom{{-1, -1, -1}, {1, 1, -0.0101}};
-const PointLoad kCubeLoad{{0, 0, 0.1}, {0, 0, 1}};
-const PointLoad kLiverLoad{{-0.01731, 0.02453, 0.0253}, {0, 0, 0.1}};
+/// A point force: where it acts (rest configuration) and its value.
+struct PointForce {
+  Eigen::Vector3d point, force;
+  std::vector<Load> loads() const { return {Load::point_force(point)}; }
+  FrameLoads frame() const { return frame_of(force); }
+};
+const PointForce kCubeLoad{{0, 0, 0.1}, {0, 0, 1}};
+const PointForce kLiverLoad{{-0.01731, 0.02453, 0.0253}, {0, 0, 0.1}};
 
 /// The mesh recipe of a committed scenario (experiments/scenarios/<name>.json).
 MeshRecipe scenario_recipe(const std::string& name) {
@@ -88,8 +94,8 @@ const HybridMesh& scaled_cube(int n, int coarse_nodes) {
 
 /// The paper cube's load with its force scaled by 682 / #V, so that the loaded
 /// vertex (mass ~ 1 / #V) accelerates as on the paper's cube (682 vertices).
-PointLoad scaled_cube_load(const HybridMesh& mesh) {
-  PointLoad load = kCubeLoad;
+PointForce scaled_cube_load(const HybridMesh& mesh) {
+  PointForce load = kCubeLoad;
   load.force *= 682.0 / static_cast<double>(mesh.fine_surface.V.rows());
   return load;
 }
@@ -104,10 +110,11 @@ struct FineSolver {
 FineSolver fine_solver(const HybridMesh& h, int64_t solver) {
   FineSolver f;
   f.body = std::make_unique<ElasticBody>(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V));
-  ElasticSolveOptions o;
-  o.preconditioner = solver == 2 ? "two_level" : "ic";
-  o.coarse_space = &h.coarse_volume;
-  f.solve = make_elastic_solve(solver == 0 ? "direct" : "iterative", *f.body, o);
+  const nlohmann::json given = {{"solver", solver == 0 ? "direct" : "iterative"},
+                                {"preconditioner", solver == 2 ? "two_level" : "ic"}};
+  f.solve = make_elastic_solve(
+      *f.body, resolve_parameters(elastic_solve_parameters("", "direct", "ic"), given, "benchmark"), "",
+      {&h.coarse_volume});
   return f;
 }
 
@@ -128,15 +135,16 @@ void BM_FemFrame(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(0)));
   FineSolver fine = fine_solver(h, state.range(1));
   ElasticSolve& solver = *fine.solve;
-  const LoadStencil s = containing_tet(h.fine_volume, kCubeLoad.point, "fine volume");
+  const BodyLoads loads(*fine.body, {containing_tet(h.fine_volume, kCubeLoad.point, "fine volume")});
+  std::vector<Eigen::Vector3d> values = {kCubeLoad.force};
   Eigen::VectorXd u;
-  solver.solve(s, kCubeLoad.force, u);
+  solver.solve(loads, values, u);
   // The load changes every frame (a ramp), so a warm-started CG has work to do.
   int frame = 0;
   double iterations = 0;
   for (auto _ : state) {
-    const double scale = 1.0 + 0.01 * (++frame % 50);
-    solver.solve(s, scale * kCubeLoad.force, u);
+    values[0] = (1.0 + 0.01 * (++frame % 50)) * kCubeLoad.force;
+    solver.solve(loads, values, u);
     iterations += solver.last_iterations();
   }
   state.counters["dofs"] = static_cast<double>(3 * h.fine_volume.V.rows());
@@ -144,11 +152,12 @@ void BM_FemFrame(benchmark::State& state) {
 }
 
 std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
-                                  int iterations, nlohmann::json parameters = nlohmann::json::object()) {
+                                  const std::vector<Load>& loads, int iterations,
+                                  nlohmann::json parameters = nlohmann::json::object()) {
   const ModelInfo& info = find_model(name);
   for (const ParameterSpec& spec : info.parameters)  // PBD iterations, for the models that have them
     if (spec.name == "iterations") parameters["iterations"] = iterations;
-  Problem p{&mesh, Material{}, support, resolve_parameters(info.parameters, parameters, name)};
+  Problem p{&mesh, Material{}, LoadCase{support, loads}, resolve_parameters(info.parameters, parameters, name)};
   auto m = info.create();
   m->setup(p);
   return m;
@@ -159,10 +168,11 @@ std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mes
 void model_frame(benchmark::State& state, const std::string& model) {
   const bool liver = state.range(0) == 1;
   const HybridMesh& mesh = liver ? liver_mesh() : cube_mesh(1);
-  auto m = make_model(model, mesh, liver ? kLiverBottom : kCubeBottom, static_cast<int>(state.range(1)));
-  const PointLoad load = liver ? kLiverLoad : kCubeLoad;
-  for (int f = 0; f < 200; ++f) m->step(load);  // measure near the steady state
-  for (auto _ : state) m->step(load);
+  const PointForce& load = liver ? kLiverLoad : kCubeLoad;
+  auto m = make_model(model, mesh, liver ? kLiverBottom : kCubeBottom, load.loads(), static_cast<int>(state.range(1)));
+  const FrameLoads frame = load.frame();
+  for (int f = 0; f < 200; ++f) m->step(frame);  // measure near the steady state
+  for (auto _ : state) m->step(frame);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.SetLabel(pbd::name(pbd::best_instruction_set()));  // the projection's vector instructions
 }
@@ -178,8 +188,9 @@ void BM_CondensedSetup(benchmark::State& state) {
   const HybridMesh& mesh = liver ? liver_mesh() : cube_mesh(1);
   nlohmann::json report;
   for (auto _ : state) {
-    auto m = make_model("condensed", mesh, liver ? kLiverBottom : kCubeBottom, 10);
-    m->step(liver ? kLiverLoad : kCubeLoad);
+    const PointForce& load = liver ? kLiverLoad : kCubeLoad;
+    auto m = make_model("condensed", mesh, liver ? kLiverBottom : kCubeBottom, load.loads(), 10);
+    m->step(load.frame());
     report = m->report();
   }
   state.counters["response_MiB"] = report.value("response_memory_mib", 0.0);
@@ -202,11 +213,11 @@ void BM_PbdFrameInstructionSet(benchmark::State& state) {
   settings.precision = state.range(1) == 1 ? pbd::Precision::Single : pbd::Precision::Double;
   pbd::Solver solver(s, pbd::inverse_masses(s, Material{}.density, kCubeBottom.select(s.V)), settings);
   solver.use_instruction_set(isa);
-  const LoadStencil load_vertex = nearest_vertex(s.V, kCubeLoad.point);
-  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
+  solver.set_loads({nearest_vertex(s.V, kCubeLoad.point)});
+  const std::vector<Eigen::Vector3d> force = {scaled_cube_load(mesh).force};
   const Points no_pins;
-  for (int f = 0; f < 200; ++f) solver.step(load_vertex, force, {}, no_pins);
-  for (auto _ : state) solver.step(load_vertex, force, {}, no_pins);
+  for (int f = 0; f < 200; ++f) solver.step(force, {}, no_pins);
+  for (auto _ : state) solver.step(force, {}, no_pins);
   state.counters["surface_vertices"] = static_cast<double>(s.V.rows());
   state.SetLabel(std::string(pbd::name(isa)) + " " + pbd::name(settings.precision));
 }
@@ -215,10 +226,11 @@ void BM_PbdFrameInstructionSet(benchmark::State& state) {
 void BM_HybridCoarseSolve(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(1);
   const ElasticBody body(h.coarse_volume, Material{}, kCubeBottom.select(h.coarse_volume.V));
-  auto coarse = make_elastic_solve("direct", body, {});
-  const LoadStencil s = containing_tet(h.coarse_volume, kCubeLoad.point, "coarse volume");
+  auto coarse = make_direct_solve(body);
+  const BodyLoads loads(body, {containing_tet(h.coarse_volume, kCubeLoad.point, "coarse volume")});
+  const std::vector<Eigen::Vector3d> values = {kCubeLoad.force};
   Eigen::VectorXd u;
-  for (auto _ : state) coarse->solve(s, kCubeLoad.force, u);
+  for (auto _ : state) coarse->solve(loads, values, u);
   state.counters["dofs"] = static_cast<double>(3 * h.coarse_volume.V.rows());
 }
 
@@ -227,12 +239,13 @@ void BM_HybridCoarseSolve(benchmark::State& state) {
 /// the sweep's spatial domains (pbd parameter domains).
 void BM_PbdFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = surface_only_cube(static_cast<int>(state.range(0)));
+  const PointForce load = scaled_cube_load(mesh);
   auto m = make_model(
-      "pbd", mesh, kCubeBottom, 10,
+      "pbd", mesh, kCubeBottom, load.loads(), 10,
       {{"threads", state.range(1)}, {"precision", state.range(2) ? "single" : "double"}, {"domains", state.range(3)}});
-  const PointLoad load = scaled_cube_load(mesh);
-  for (int f = 0; f < 20; ++f) m->step(load);
-  for (auto _ : state) m->step(load);
+  const FrameLoads frame = load.frame();
+  for (int f = 0; f < 20; ++f) m->step(frame);
+  for (auto _ : state) m->step(frame);
   state.counters["surface_vertices"] = static_cast<double>(mesh.fine_surface.V.rows());
   state.counters["ns_per_vertex"] =
       benchmark::Counter(static_cast<double>(mesh.fine_surface.V.rows()),
@@ -247,14 +260,15 @@ void BM_PbdFrameScaling(benchmark::State& state) {
 /// frame (Model::last_phase_times), ms.
 void BM_HybridFrameScaling(benchmark::State& state) {
   const HybridMesh& mesh = scaled_cube(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const PointForce load = scaled_cube_load(mesh);
   auto m = make_model(
-      "hybrid", mesh, kCubeBottom, 10,
+      "hybrid", mesh, kCubeBottom, load.loads(), 10,
       {{"threads", state.range(2)}, {"precision", state.range(3) ? "single" : "double"}, {"domains", state.range(4)}});
-  const PointLoad load = scaled_cube_load(mesh);
-  for (int f = 0; f < 20; ++f) m->step(load);
+  const FrameLoads frame = load.frame();
+  for (int f = 0; f < 20; ++f) m->step(frame);
   std::vector<double> phase_ms(m->last_phase_times().size(), 0.0);
   for (auto _ : state) {
-    m->step(load);
+    m->step(frame);
     for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k] += m->last_phase_times()[k].ms;
   }
   for (size_t k = 0; k < phase_ms.size(); ++k)
@@ -277,16 +291,16 @@ void BM_PbdKernelSpeedup(benchmark::State& state) {
   pbd::Settings reference_settings;
   reference_settings.kernels = pbd::Kernels::Reference;
   pbd::Solver simd(s, w, pbd::Settings{}), reference(s, w, reference_settings);
-  const LoadStencil load_vertex = nearest_vertex(s.V, kCubeLoad.point);
-  const Eigen::Vector3d force = scaled_cube_load(mesh).force;
+  for (pbd::Solver* solver : {&simd, &reference}) solver->set_loads({nearest_vertex(s.V, kCubeLoad.point)});
+  const std::vector<Eigen::Vector3d> force = {scaled_cube_load(mesh).force};
   const Points no_pins;
   using Clock = std::chrono::steady_clock;
   double simd_s = 0, reference_s = 0;
   for (auto _ : state) {
     const auto a = Clock::now();
-    reference.step(load_vertex, force, {}, no_pins);
+    reference.step(force, {}, no_pins);
     const auto b = Clock::now();
-    simd.step(load_vertex, force, {}, no_pins);
+    simd.step(force, {}, no_pins);
     const auto c = Clock::now();
     reference_s += std::chrono::duration<double>(b - a).count();
     simd_s += std::chrono::duration<double>(c - b).count();
@@ -299,7 +313,7 @@ void BM_PbdKernelSpeedup(benchmark::State& state) {
   state.SetLabel(pbd::name(simd.instruction_set()));
 }
 
-/// XPBD (issue 15) against PBD on the paper's cube, 10 iterations, 200 frames
+/// XPBD against PBD on the paper's cube, 10 iterations, 200 frames
 /// in: each benchmark iteration steps three models of one kind (range(0): 0 pbd,
 /// 1 hybrid) once each, PBD with the SIMD kernels, PBD with the scalar reference
 /// kernels and XPBD (reference kernels, the only ones it has), timed in triples so
@@ -308,18 +322,21 @@ void BM_PbdKernelSpeedup(benchmark::State& state) {
 void BM_XpbdFrame(benchmark::State& state) {
   const std::string kind = state.range(0) == 0 ? "pbd" : "hybrid";
   const HybridMesh& mesh = cube_mesh(1);
+  const std::vector<Load> loads = kCubeLoad.loads();
   std::unique_ptr<Model> models[3] = {
-      make_model(kind, mesh, kCubeBottom, 10), make_model(kind, mesh, kCubeBottom, 10, {{"kernels", "reference"}}),
-      make_model(kind, mesh, kCubeBottom, 10,
+      make_model(kind, mesh, kCubeBottom, loads, 10),
+      make_model(kind, mesh, kCubeBottom, loads, 10, {{"kernels", "reference"}}),
+      make_model(kind, mesh, kCubeBottom, loads, 10,
                  {{"kernels", "reference"}, {"constraint_solve", "xpbd"}, {"bending_angle", "signed"}})};
+  const FrameLoads frame = kCubeLoad.frame();
   for (int f = 0; f < 200; ++f)
-    for (auto& m : models) m->step(kCubeLoad);
+    for (auto& m : models) m->step(frame);
   using Clock = std::chrono::steady_clock;
   double seconds[3] = {0, 0, 0};
   for (auto _ : state) {
     for (int k = 0; k < 3; ++k) {
       const auto a = Clock::now();
-      models[k]->step(kCubeLoad);
+      models[k]->step(frame);
       seconds[k] += std::chrono::duration<double>(Clock::now() - a).count();
       if (k == 2) state.SetIterationTime(std::chrono::duration<double>(Clock::now() - a).count());
     }

@@ -3,7 +3,7 @@
 // solver (issue 16; scripts/pbd_library_comparison builds and runs this). Not part
 // of tissuebench's build: the library is no dependency of the project.
 //
-// The problem is the pbd model's (models/pbd/pbd_solver.cc), built with the
+// The problem is the pbd model's (models/numerics/pbd/pbd_solver.cc), built with the
 // library's own objects: the surface as a TriangleModel of a SimulationModel, a
 // DistanceConstraint on every edge (addClothConstraints, method 1) and a
 // DihedralConstraint on every interior edge (addBendingConstraints, method 1),

@@ -5,7 +5,7 @@
 #include "coarse_embedding.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
-#include "load_mapping.h"
+#include "load_placement.h"
 
 namespace tb {
 namespace {
@@ -17,8 +17,13 @@ class EmbeddedModel : public Model {
     if (h.coarse_volume.T.rows() == 0) throw std::invalid_argument("embedded: the scenario provides no coarse volume");
     try {
       coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material,
-                                                   p.support.clamp(h.coarse_volume.V, "coarse volume"));
-      coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_", nullptr);
+                                                   p.load_case.support.clamp(h.coarse_volume.V, "coarse volume"));
+      coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_");
+      // The loads where the coarse mesh is: the nearest tet (its hull may lie inside
+      // a curved surface), extrapolated, as the surface vertices are embedded.
+      coarse_loads_ = std::make_unique<BodyLoads>(
+          *coarse_body_, place_on_volume(p.load_case.loads, {&h.coarse_volume, "coarse volume", &h.fine_surface, nullptr,
+                                                             p.material.density, PointInVolume::Nearest}));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("embedded: coarse mesh: ") + e.what());
     }
@@ -27,12 +32,8 @@ class EmbeddedModel : public Model {
     u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
   }
 
-  void step(const PointLoad& load) override {
-    require_point_load(load, "embedded");
-    const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
-      return nearest_tet(coarse_body_->mesh(), x);
-    });  // the coarse hull may lie inside a curved surface
-    coarse_->solve(coarse_load, load.force, coarse_u_);
+  void step(const FrameLoads& loads) override {
+    coarse_->solve(*coarse_loads_, loads.values, coarse_u_);
     interpolate_embedded(embedding_, coarse_body_->mesh().T, coarse_u_, u_);
   }
 
@@ -42,17 +43,17 @@ class EmbeddedModel : public Model {
   // "max_embedding_distance" (written beside every result as run.json "mesh").
   nlohmann::json report() const override {
     nlohmann::json r = {{"coarse_solve", coarse_->report()}};
-    if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
+    if (coarse_loads_->size() > 0) r["load_distance_to_coarse_mesh_m"] = coarse_loads_->load(0).distance;
     return r;
   }
 
  private:
   std::unique_ptr<ElasticBody> coarse_body_;
   std::unique_ptr<ElasticSolve> coarse_;
+  std::unique_ptr<BodyLoads> coarse_loads_;
   std::vector<ControlPoint> embedding_;
   Eigen::VectorXd coarse_u_;
   Displacements u_;
-  PerLoadPoint<LoadStencil> coarse_load_;
 };
 
 }  // namespace
@@ -63,10 +64,15 @@ ModelInfo embedded_model_info() {
     s.description = "coarse mesh: " + s.description;
     specs.push_back(std::move(s));
   }
-  return {"embedded",
-          "Coarse linear FEM; every fine-surface vertex follows it by barycentric weights, no PBD (SOFA's barycentric "
-          "mapping)",
-          false, specs, [] { return std::make_unique<EmbeddedModel>(); }};
+  ModelInfo m;
+  m.name = "embedded";
+  m.description =
+      "Coarse linear FEM; every fine-surface vertex follows it by barycentric weights, no PBD (SOFA's barycentric "
+      "mapping)";
+  m.parameters = specs;
+  m.create = [] { return std::make_unique<EmbeddedModel>(); };
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  return m;
 }
 
 }  // namespace tb

@@ -5,7 +5,7 @@
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
-#include "load_mapping.h"
+#include "load_placement.h"
 
 namespace tb {
 namespace {
@@ -16,9 +16,14 @@ class FemModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.fine_volume.T.rows() == 0) throw std::invalid_argument("fem: the scenario provides no fine volume mesh");
     try {
-      body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.clamp(h.fine_volume.V, "fine volume"));
+      body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
+                                            p.load_case.support.clamp(h.fine_volume.V, "fine volume"));
       // The two-level preconditioner's coarse space is the scenario's coarse (hybrid) mesh.
-      solve_ = make_elastic_solve(*body_, p.parameters, "", h.coarse_volume.T.rows() ? &h.coarse_volume : nullptr);
+      solve_ = make_elastic_solve(*body_, p.parameters, "", {h.coarse_volume.T.rows() ? &h.coarse_volume : nullptr});
+      // Eq. (10): each load's consistent nodal forces on the fine volume.
+      loads_ = std::make_unique<BodyLoads>(
+          *body_, place_on_volume(p.load_case.loads, {&h.fine_volume, "fine volume", &h.fine_surface,
+                                                      &h.fine_surface_to_volume, p.material.density}));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("fem: ") + e.what());
     }
@@ -27,12 +32,9 @@ class FemModel : public Model {
     surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
   }
 
-  void step(const PointLoad& load) override {
-    require_point_load(load, "fem (a disc load needs the model fem_distributed)");
-    const LoadStencil& stencil = stencil_.get(
-        load.point, [&](const Eigen::Vector3d& x) { return containing_tet(body_->mesh(), x, "fine volume"); });
+  void step(const FrameLoads& loads) override {
     const auto start = std::chrono::steady_clock::now();
-    solve_->solve(stencil, load.force, u_);
+    solve_->solve(*loads_, loads.values, u_);
     phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
@@ -48,17 +50,22 @@ class FemModel : public Model {
   std::vector<PhaseTime> phases_{{phase::kSolve}};
   std::unique_ptr<ElasticBody> body_;
   std::unique_ptr<ElasticSolve> solve_;
+  std::unique_ptr<BodyLoads> loads_;
   std::vector<int> surface_to_volume_;
   Eigen::VectorXd u_;
   Displacements surface_u_;
-  PerLoadPoint<LoadStencil> stencil_;
 };
 
 }  // namespace
 
 ModelInfo fem_model_info() {
-  return {"fem", "Linear FEM on the fine tet volume (P1, deal.II assembly); the accuracy reference", false,
-          elastic_solve_parameters("", "direct", "two_level"), [] { return std::make_unique<FemModel>(); }};
+  ModelInfo m;
+  m.name = "fem";
+  m.description = "Linear FEM on the fine tet volume (P1, deal.II assembly); the accuracy reference";
+  m.parameters = elastic_solve_parameters("", "direct", "two_level");
+  m.create = [] { return std::make_unique<FemModel>(); };
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  return m;
 }
 
 }  // namespace tb

@@ -17,31 +17,34 @@ class FemDistributedModel : public Model {
     const HybridMesh& h = *p.mesh;
     if (h.fine_volume.T.rows() == 0)
       throw std::invalid_argument("fem_distributed: the scenario provides no fine volume mesh");
-    mesh_ = &h;
     surface_to_volume_ = h.fine_surface_to_volume;
     surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
-    p.support.clamp(h.fine_volume.V, "fine volume");  // the same support check as every model
+    p.load_case.support.clamp(h.fine_volume.V, "fine volume");  // the same support check as every model
     DistributedSettings s;
     s.degree = p.parameters.integer("degree");
     s.law = p.parameters.choice("material_law") == "neo_hookean" ? MaterialLaw::NeoHookean : MaterialLaw::Linear;
     s.cg_tolerance = p.parameters.number("cg_tolerance");
     s.load_steps = p.parameters.integer("load_steps");
-    const SupportBox support = p.support;
+    const SupportBox support = p.load_case.support;
     distributed_ = std::make_unique<DistributedElasticity>(
         h.fine_volume, p.material, [support](const Eigen::Vector3d& x) { return support.contains(x); }, s,
         MPI_COMM_WORLD);
+    // The load's points, spread by the cells' shape functions of any degree.
+    if (p.load_case.loads.size() != 1)
+      throw std::invalid_argument("fem_distributed: takes exactly one load; the scenario gives " +
+                                  std::to_string(p.load_case.loads.size()));
+    const Load& load = p.load_case.loads[0];
+    try {
+      load_points_ = load.kind == LoadKind::SurfaceTraction
+                         ? disc_load_points(h.fine_volume, h.fine_surface, surface_to_volume_, load.point, load.radius)
+                         : point_load_points(h.fine_volume, load.point);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("fem_distributed: " + load.key + " (" + name(load.kind) + "): " + e.what());
+    }
   }
 
-  void step(const PointLoad& load) override {
-    // The load's points depend on where and how wide it is, not on its size.
-    if (load_points_.empty() || load.point != load_point_ || load.disc_radius != load_radius_) {
-      load_points_ = load.disc_radius > 0 ? disc_load_points(mesh_->fine_volume, mesh_->fine_surface,
-                                                             surface_to_volume_, load.point, load.disc_radius)
-                                          : point_load_points(mesh_->fine_volume, load.point);
-      load_point_ = load.point;
-      load_radius_ = load.disc_radius;
-    }
-    distributed_->solve(load_points_, load.force);
+  void step(const FrameLoads& loads) override {
+    distributed_->solve(load_points_, loads.values[0]);
     surface_u_ = distributed_->node_displacements(surface_to_volume_);
   }
 
@@ -67,31 +70,31 @@ class FemDistributedModel : public Model {
   }
 
  private:
-  const HybridMesh* mesh_ = nullptr;
   std::unique_ptr<DistributedElasticity> distributed_;
   std::vector<int> surface_to_volume_;
   Displacements surface_u_;
   std::vector<LoadPoint> load_points_;  // the load's points, weights summing to 1
-  Eigen::Vector3d load_point_ = Eigen::Vector3d::Zero();
-  double load_radius_ = 0;
 };
 
 }  // namespace
 
 ModelInfo fem_distributed_model_info() {
   using P = ParameterSpec;
-  return {
-      "fem_distributed",
+  ModelInfo m;
+  m.name = "fem_distributed";
+  m.description =
       "FEM on the fine tet volume over MPI ranks (deal.II, Trilinos CG with ML AMG): the reference solve at any "
-      "size, P1/P2, linear or neo-Hookean, point or disc load (load.disc_radius); mpirun -np N",
-      false,
-      {P::whole_number("degree", 1, 1, 2, "polynomial degree of the elements, FE_SimplexP"),
-       P::choice("material_law", {"linear", "neo_hookean"}, "linear",
-                 "linear: small-strain elasticity (eq. 9); neo_hookean: compressible neo-Hookean with the same "
-                 "lambda, mu, Newton with load increments"),
-       P::whole_number("load_steps", 1, 1, 1000, "neo_hookean: load increments per frame (halved when Newton fails)"),
-       P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")},
-      [] { return std::make_unique<FemDistributedModel>(); }};
+      "size, P1/P2, linear or neo-Hookean, one point force or disc traction; mpirun -np N";
+  m.parameters = {
+      P::whole_number("degree", 1, 1, 2, "polynomial degree of the elements, FE_SimplexP"),
+      P::choice("material_law", {"linear", "neo_hookean"}, "linear",
+                "linear: small-strain elasticity (eq. 9); neo_hookean: compressible neo-Hookean with the same "
+                "lambda, mu, Newton with load increments"),
+      P::whole_number("load_steps", 1, 1, 1000, "neo_hookean: load increments per frame (halved when Newton fails)"),
+      P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")};
+  m.create = [] { return std::make_unique<FemDistributedModel>(); };
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction};
+  return m;
 }
 
 }  // namespace tb

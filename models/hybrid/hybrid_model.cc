@@ -6,14 +6,12 @@
 #include "coarse_embedding.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
-#include "load_mapping.h"
+#include "load_placement.h"
 #include "pbd_solver.h"
 #include "precomputed_response.h"
 
 namespace tb {
 namespace {
-
-const LoadStencil kNoLoad{};  // all weights 0: surface_force none
 
 class HybridModel : public Model {
  public:
@@ -26,22 +24,33 @@ class HybridModel : public Model {
     // The ablation control_points = exact_fine_fem places the control points at
     // the fine FEM's solution instead (the fine stiffness condensed on them).
     exact_control_points_ = p.parameters.choice("control_points") == "exact_fine_fem";
-    load_on_nearest_node_ = p.parameters.choice("coarse_load") == "nearest_node";
     try {
       if (exact_control_points_) {
         if (h.fine_volume.T.rows() == 0)
           throw std::invalid_argument("control_points exact_fine_fem needs the scenario's fine volume mesh");
-        fine_body_ =
-            std::make_unique<ElasticBody>(h.fine_volume, p.material, p.support.clamp(h.fine_volume.V, "fine volume"));
+        fine_body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
+                                                   p.load_case.support.clamp(h.fine_volume.V, "fine volume"));
+        fine_loads_ = std::make_unique<BodyLoads>(
+            *fine_body_, place_on_volume(p.load_case.loads, {&h.fine_volume, "fine volume", &h.fine_surface,
+                                                             &h.fine_surface_to_volume, p.material.density}));
         std::vector<int> control_nodes;
         for (const auto& cp : h.control_points)
           control_nodes.push_back(h.fine_surface_to_volume[static_cast<size_t>(cp.surface_vertex)]);
         exact_ = std::make_unique<PrecomputedResponse>(*fine_body_, control_nodes);
+        exact_->prepare(*fine_loads_);
       } else {
         coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material,
-                                                     p.support.clamp(h.coarse_volume.V, "coarse volume"));
-        coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_", nullptr);
+                                                     p.load_case.support.clamp(h.coarse_volume.V, "coarse volume"));
+        coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_");
         coarse_u_ = Eigen::VectorXd::Zero(coarse_body_->dofs());
+        // The loads on the coarse FEM: a point force by the P1 weights of the coarse
+        // tet holding the point (the nearest one: the coarse hull may lie inside a
+        // curved surface), or, as a study factor, all on the nearest coarse node.
+        const PointInVolume rule = p.parameters.choice("coarse_load") == "nearest_node" ? PointInVolume::NearestNode
+                                                                                          : PointInVolume::Nearest;
+        coarse_loads_ = std::make_unique<BodyLoads>(
+            *coarse_body_, place_on_volume(p.load_case.loads, {&h.coarse_volume, "coarse volume", &h.fine_surface,
+                                                               nullptr, p.material.density, rule}));
       }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("hybrid: coarse mesh: ") + e.what());
@@ -56,7 +65,7 @@ class HybridModel : public Model {
     if (!exact_control_points_ && p.parameters.choice("surface_support") == "coarse_fem") {
       std::vector<char> is_control(static_cast<size_t>(h.fine_surface.V.rows()));
       for (const auto& cp : control_) is_control[static_cast<size_t>(cp.surface_vertex)] = 1;
-      const std::vector<char> supported = p.support.select(h.fine_surface.V);
+      const std::vector<char> supported = p.load_case.support.select(h.fine_surface.V);
       std::vector<int> extra;
       for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
         if (supported[static_cast<size_t>(v)] && !is_control[static_cast<size_t>(v)]) extra.push_back(static_cast<int>(v));
@@ -71,23 +80,24 @@ class HybridModel : public Model {
     }
     control_u_ = Points::Zero(static_cast<Eigen::Index>(control_.size()), 3);
     const SurfaceMesh& s = h.fine_surface;
-    std::vector<char> fixed = p.support.select(s.V);  // the control points hold the surface too
+    std::vector<char> fixed = p.load_case.support.select(s.V);  // the control points hold the surface too
     pinned_.clear();
     for (const auto& cp : control_) {
       fixed[static_cast<size_t>(cp.surface_vertex)] = 1;  // never moved by the projection
       pinned_.push_back(cp.surface_vertex);
     }
     pinned_positions_ = Points::Zero(static_cast<Eigen::Index>(pinned_.size()), 3);
-    apply_force_to_surface_ = p.parameters.choice("surface_force") == "applied";
     solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, fixed),
                                             pbd::Settings::from(p.parameters, p.material));
+    // Eq. (31) on the surface too (the paper's step 2), unless surface_force none.
+    if (p.parameters.choice("surface_force") == "applied")
+      solver_->set_loads(place_on_surface(p.load_case.loads, s,
+                                          solver_->settings().load_spread == pbd::LoadSpread::SurfaceTriangle,
+                                          pbd::lumped_surface_masses(s, p.material.density)));
     u_ = Displacements::Zero(s.V.rows(), 3);
   }
 
-  void step(const PointLoad& load) override {
-    require_point_load(load, "hybrid");
-    const LoadStencil& surface_load =
-        surface_load_.get(load.point, [&](const Eigen::Vector3d& x) { return solver_->locate_load(x); });
+  void step(const FrameLoads& loads) override {
     using Clock = std::chrono::steady_clock;
     using Ms = std::chrono::duration<double, std::milli>;
     // Step 2: the control points' displacement: coarse K u = f (eq. 11)
@@ -95,18 +105,10 @@ class HybridModel : public Model {
     const auto t0 = Clock::now();
     auto t1 = t0;
     if (exact_) {
-      const LoadStencil& fine_load = fine_load_.get(
-          load.point, [&](const Eigen::Vector3d& x) { return containing_tet(fine_body_->mesh(), x, "fine volume"); });
-      exact_->apply(fine_load, load.force, control_u_);
+      exact_->apply(*fine_loads_, loads.values, control_u_);
       t1 = Clock::now();
     } else {
-      // The P1 stencil of the coarse tet holding the point (the nearest one: the
-      // coarse hull may lie inside a curved surface), or, as a study factor, the
-      // nearest coarse node alone.
-      const LoadStencil& coarse_load = coarse_load_.get(load.point, [&](const Eigen::Vector3d& x) {
-        return load_on_nearest_node_ ? nearest_vertex(coarse_body_->mesh().V, x) : nearest_tet(coarse_body_->mesh(), x);
-      });
-      coarse_->solve(coarse_load, load.force, coarse_u_);
+      coarse_->solve(*coarse_loads_, loads.values, coarse_u_);
       t1 = Clock::now();
       interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
     }
@@ -117,7 +119,7 @@ class HybridModel : public Model {
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
     const auto t2 = Clock::now();
-    solver_->step(apply_force_to_surface_ ? surface_load : kNoLoad, load.force, pinned_, pinned_positions_);
+    solver_->step(solver_->loads().empty() ? no_surface_load_values_ : loads.values, pinned_, pinned_positions_);
     const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
     const auto t4 = Clock::now();
@@ -141,7 +143,7 @@ class HybridModel : public Model {
     r["control_points"] = "coarse_fem";
     if (supported_following_coarse_ > 0) r["supported_vertices_following_coarse_fem"] = supported_following_coarse_;
     r["coarse_solve"] = coarse_->report();
-    if (const LoadStencil* l = coarse_load_.last()) r["load_distance_to_coarse_mesh_m"] = l->distance;
+    if (coarse_loads_->size() > 0) r["load_distance_to_coarse_mesh_m"] = coarse_loads_->load(0).distance;
     return r;
   }
 
@@ -151,21 +153,20 @@ class HybridModel : public Model {
   std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
   bool exact_control_points_ = false;
   int supported_following_coarse_ = 0;  // surface_support coarse_fem: supported vertices pinned to the coarse FEM
-  bool load_on_nearest_node_ = false;
   std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only
+  std::unique_ptr<BodyLoads> fine_loads_;       // exact_fine_fem only
   std::unique_ptr<PrecomputedResponse> exact_;  // exact_fine_fem only
-  PerLoadPoint<LoadStencil> fine_load_;         // exact_fine_fem only
   Points control_u_;                            // #control points by 3
   std::unique_ptr<ElasticBody> coarse_body_;
   std::unique_ptr<ElasticSolve> coarse_;
+  std::unique_ptr<BodyLoads> coarse_loads_;
   Eigen::VectorXd coarse_u_;
   std::vector<ControlPoint> control_;
   std::vector<int> pinned_;
   Points pinned_positions_;
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
-  PerLoadPoint<LoadStencil> coarse_load_, surface_load_;
-  bool apply_force_to_surface_ = true;
+  const std::vector<Eigen::Vector3d> no_surface_load_values_;  // surface_force none: the surface gets no load
 };
 
 }  // namespace
@@ -195,8 +196,14 @@ ModelInfo hybrid_model_info() {
       "surface_force", {"applied", "none"}, "applied",
       "applied: eq. (31) also applies the load to the surface (where load_spread says), as in the paper's step 2; "
       "none: the load acts only through the coarse FEM"));
-  return {"hybrid", "Coarse linear FEM pins the fine surface's control points; PBD moves the rest (paper 1.5)", true,
-          specs, [] { return std::make_unique<HybridModel>(); }};
+  ModelInfo m;
+  m.name = "hybrid";
+  m.description = "Coarse linear FEM pins the fine surface's control points; PBD moves the rest (paper 1.5)";
+  m.dynamic = true;
+  m.parameters = specs;
+  m.create = [] { return std::make_unique<HybridModel>(); };
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  return m;
 }
 
 }  // namespace tb

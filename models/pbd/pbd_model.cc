@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "load_mapping.h"
+#include "load_placement.h"
 #include "pbd_solver.h"
 
 namespace tb {
@@ -13,17 +13,18 @@ class PbdModel : public Model {
   void setup(const Problem& p) override {
     const SurfaceMesh& s = p.mesh->fine_surface;
     solver_ = std::make_unique<pbd::Solver>(
-        s, pbd::inverse_masses(s, p.material.density, p.support.clamp(s.V, "fine surface")),
+        s, pbd::inverse_masses(s, p.material.density, p.load_case.support.clamp(s.V, "fine surface")),
         pbd::Settings::from(p.parameters, p.material));
+    // Eq. (31): a point force on the nearest surface vertex (the paper) or triangle
+    // (load_spread); a traction on its disc's triangles; gravity on every vertex's mass.
+    solver_->set_loads(place_on_surface(p.load_case.loads, s,
+                                        solver_->settings().load_spread == pbd::LoadSpread::SurfaceTriangle,
+                                        pbd::lumped_surface_masses(s, p.material.density)));
     u_ = Displacements::Zero(s.V.rows(), 3);
   }
 
-  void step(const PointLoad& load) override {
-    require_point_load(load, "pbd");
-    // Eq. (31): the nearest surface vertex (DESIGN) or triangle (load_spread).
-    const LoadStencil& surface_load =
-        surface_load_.get(load.point, [&](const Eigen::Vector3d& x) { return solver_->locate_load(x); });
-    solver_->step(surface_load, load.force, no_pins_, no_pin_positions_);
+  void step(const FrameLoads& loads) override {
+    solver_->step(loads.values, no_pins_, no_pin_positions_);
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
     const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -38,7 +39,6 @@ class PbdModel : public Model {
  private:
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
-  PerLoadPoint<LoadStencil> surface_load_;
   std::vector<PhaseTime> phases_{{phase::kProjection}, {phase::kIntegration}};
   const std::vector<int> no_pins_;
   const Points no_pin_positions_;
@@ -47,8 +47,14 @@ class PbdModel : public Model {
 }  // namespace
 
 ModelInfo pbd_model_info() {
-  return {"pbd", "Position Based Dynamics on the fine surface: stretch + bending constraints (paper 1.4)", true,
-          pbd::parameter_specs(), [] { return std::make_unique<PbdModel>(); }};
+  ModelInfo m;
+  m.name = "pbd";
+  m.description = "Position Based Dynamics on the fine surface: stretch + bending constraints (paper 1.4)";
+  m.dynamic = true;
+  m.parameters = pbd::parameter_specs();
+  m.create = [] { return std::make_unique<PbdModel>(); };
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  return m;
 }
 
 }  // namespace tb

@@ -67,9 +67,9 @@ class CompileFlags(unittest.TestCase):
     def test_run_json_records_what_compiled_each_library(self):
         recorded = recorded_flags()
         groups = {"tb_models": lambda rel: rel.startswith("models/") and rel not in DEAL_II_UNITS and
-                  rel not in ("models/pbd/constraints.cc", "models/pbd/constraint_batches.cc"),
-                  "tb_models PBD kernel sources": lambda rel: rel in ("models/pbd/constraints.cc",
-                                                                      "models/pbd/constraint_batches.cc"),
+                  rel not in ("models/numerics/pbd/constraints.cc", "models/numerics/pbd/constraint_batches.cc"),
+                  "tb_models PBD kernel sources": lambda rel: rel in ("models/numerics/pbd/constraints.cc",
+                                                                      "models/numerics/pbd/constraint_batches.cc"),
                   "tb_fem_assembly (deal.II)": lambda rel: rel in DEAL_II_UNITS,
                   "tb_meshing": lambda rel: rel.startswith("meshing/"),
                   "tb_experiments": lambda rel: rel.startswith("experiments/") and "benchmarks" not in rel and

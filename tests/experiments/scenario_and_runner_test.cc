@@ -154,7 +154,7 @@ TEST_F(Scenarios, MeshCacheReturnsTheBuiltMeshExactly) {
   ASSERT_EQ(built.control_points.size(), read.control_points.size());
   for (size_t k = 0; k < built.control_points.size(); ++k) {
     EXPECT_EQ(built.control_points[k].surface_vertex, read.control_points[k].surface_vertex);
-    EXPECT_EQ(built.control_points[k].weights, read.control_points[k].weights);
+    EXPECT_EQ(built.control_points[k].coarse.weights, read.control_points[k].coarse.weights);
   }
   // An unusable cache folder (a file stands there) costs a rebuild, not the run.
   std::ofstream(dir / "not-a-folder") << "x";

@@ -84,12 +84,12 @@ TEST(CoarseMeshRepair, EllipsoidSliversAreGoneAndTheMeshStillFitsTheShape) {
   EXPECT_EQ(nodes_used.size(), static_cast<size_t>(after.coarse_volume.V.rows())) << "a node in no tet";
   ASSERT_EQ(after.control_points.size(), before.control_points.size());  // moves keep a vertex's class
   for (const auto& cp : after.control_points) {
-    ASSERT_GE(cp.coarse_tet, 0);
-    EXPECT_EQ(cp.weights.maxCoeff(), 1.0);
-    EXPECT_EQ(cp.weights.sum(), 1.0);
+    ASSERT_GE(cp.coarse.tet, 0);
+    EXPECT_EQ(cp.coarse.weights.maxCoeff(), 1.0);
+    EXPECT_EQ(cp.coarse.weights.sum(), 1.0);
     Eigen::Index k;
-    cp.weights.maxCoeff(&k);
-    EXPECT_EQ(after.coarse_volume.V.row(after.coarse_volume.T(cp.coarse_tet, static_cast<int>(k))),
+    cp.coarse.weights.maxCoeff(&k);
+    EXPECT_EQ(after.coarse_volume.V.row(after.coarse_volume.T(cp.coarse.tet, static_cast<int>(k))),
               after.fine_surface.V.row(cp.surface_vertex));
   }
 }

@@ -87,9 +87,9 @@ TEST(HybridBuilder, CubeMatchesThePaperScale) {
   for (const auto& cp : h.control_points) {
     const Eigen::RowVector3d p = h.fine_surface.V.row(cp.surface_vertex);
     Eigen::RowVector3d q = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 4; ++k) q += cp.weights(k) * h.coarse_volume.V.row(h.coarse_volume.T(cp.coarse_tet, k));
+    for (int k = 0; k < 4; ++k) q += cp.coarse.weights(k) * h.coarse_volume.V.row(h.coarse_volume.T(cp.coarse.tet, k));
     EXPECT_LT((p - q).norm(), 1e-15);
-    EXPECT_EQ(cp.weights.maxCoeff(), 1.0);
+    EXPECT_EQ(cp.coarse.weights.maxCoeff(), 1.0);
     bottom += p.z() == 0.0;
   }
   EXPECT_GT(bottom, 10) << "the clamped bottom face needs control points";
@@ -173,8 +173,8 @@ TEST(HybridBuilder, LiverWithGivenCoarseMesh) {
   EXPECT_LT(d, 0.005);  // every fine vertex within 5 mm of its coarse tet
   EXPECT_GT(h.control_points.size(), 50u);
   for (const auto& cp : h.control_points) {
-    EXPECT_GE(cp.coarse_tet, 0);
-    EXPECT_NEAR(cp.weights.sum(), 1.0, 1e-12);
+    EXPECT_GE(cp.coarse.tet, 0);
+    EXPECT_NEAR(cp.coarse.weights.sum(), 1.0, 1e-12);
   }
 }
 

@@ -1,5 +1,5 @@
-// PBD and hybrid models on the paper's cube (issue 5): rest under zero load,
-// stability, symmetry.
+// PBD and hybrid models on the paper's cube: rest under zero load, stability,
+// symmetry; and the registry's rules.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -23,13 +23,15 @@ class DynamicModel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DynamicModel, ZeroLoadLeavesEveryVertexAtRest) {
   auto m = make(GetParam());
-  for (int f = 0; f < 50; ++f) m->step({{0, 0, 0.1}, {0, 0, 0}});
+  const FrameLoads none = testing::kCubePull.scaled(0).frame();
+  for (int f = 0; f < 50; ++f) m->step(none);
   EXPECT_EQ(m->surface_displacement().cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST_P(DynamicModel, TenThousandFramesStayFiniteAndSymmetric) {
   auto m = make(GetParam());
-  for (int f = 0; f < 10000; ++f) m->step({{0, 0, 0.1}, {0, 0, 1}});
+  const FrameLoads pull = testing::kCubePull.frame();
+  for (int f = 0; f < 10000; ++f) m->step(pull);
   const Displacements& u = m->surface_displacement();
   ASSERT_TRUE(u.allFinite());
   // Mirror symmetry of u_z about x = 0. Not exact: Gauss-Seidel order (PBD,
@@ -54,7 +56,7 @@ INSTANTIATE_TEST_SUITE_P(Models, DynamicModel, ::testing::Values("pbd", "hybrid"
 TEST_P(DynamicModel, SinglePrecisionSweepReachesDoublePrecisionsSteadyState) {
   auto d = make(GetParam()), f = make(GetParam(), {{"precision", "single"}});
   for (int frame = 0; frame < 300; ++frame) {
-    const PointLoad load{{0, 0, 0.1}, {0, 0, std::min(1.0, (frame + 1) / 50.0)}};
+    const FrameLoads load = testing::kCubePull.scaled(std::min(1.0, (frame + 1) / 50.0)).frame();
     d->step(load);
     f->step(load);
   }
@@ -82,7 +84,7 @@ TEST(PbdSolver, RigidTranslationOfControlPointsMovesTheSurfaceRigidly) {
   const Eigen::RowVector3d t(0.003, -0.002, 0.001);
   Points targets(static_cast<Eigen::Index>(pinned.size()), 3);
   for (size_t k = 0; k < pinned.size(); ++k) targets.row(static_cast<Eigen::Index>(k)) = s.V.row(pinned[k]) + t;
-  for (int f = 0; f < 3000; ++f) solver.step(LoadStencil{}, Eigen::Vector3d::Zero(), pinned, targets);
+  for (int f = 0; f < 3000; ++f) solver.step({}, pinned, targets);
   const Points moved = solver.positions().rowwise() - t;
   EXPECT_LT((moved - s.V).cwiseAbs().maxCoeff(), 1e-9);
 }
@@ -97,11 +99,47 @@ TEST(Registry, UnknownModelAndParametersAreErrors) {
   EXPECT_EQ(resolve_parameters(pbd.parameters, {{"iterations", 5}}, "x").integer("iterations"), 5);
 }
 
+std::string logic_error_of(const std::vector<ModelInfo>& models) {
+  try {
+    validate_registry(models);
+  } catch (const std::logic_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Registry, NamesAreCheckedAtRegistration) {
+  EXPECT_NO_THROW(validate_registry(registered_models()));
+  ModelInfo a, b;
+  a.name = "my-model";  // a hyphen: names folders and test cases, which GoogleTest refuses
+  EXPECT_NE(logic_error_of({a}).find("model name 'my-model'"), std::string::npos) << logic_error_of({a});
+  a.name = "Fem";
+  EXPECT_NE(logic_error_of({a}).find("lower-case letters, digits and '_'"), std::string::npos);
+  a.name = "";
+  EXPECT_NE(logic_error_of({a}).find("model name ''"), std::string::npos);
+  a.name = b.name = "twin_2";
+  EXPECT_NE(logic_error_of({a, b}).find("registered twice"), std::string::npos) << logic_error_of({a, b});
+}
+
+TEST(Registry, AnUnsupportedLoadIsOneErrorNamingModelKindAndKey) {
+  LoadCase c{testing::kCubeBottom, {Load::point_force({0, 0, 0.1}), Load::body_force("loads[1]")}};
+  EXPECT_NO_THROW(check_supported(find_model("fem"), c));
+  try {
+    check_supported(find_model("fem_distributed"), c);
+    FAIL() << "fem_distributed takes no body force";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "model 'fem_distributed' does not take body_force loads (loads[1]); it takes point_force, "
+              "surface_traction");
+  }
+  for (const ModelInfo& m : registered_models()) EXPECT_TRUE(m.takes(LoadKind::PointForce)) << m.name;
+}
+
 TEST(FemModel, TwoLevelPreconditionerWithoutACoarseMeshIsAnError) {
   HybridMesh no_coarse = cube();
   no_coarse.coarse_volume = TetMesh{};
   const ModelInfo& fem = find_model("fem");
-  Problem p{&no_coarse, Material{}, SupportBox{{-1, -1, -1e-9}, {1, 1, 1e-9}},
+  Problem p{&no_coarse, Material{}, LoadCase{testing::kCubeBottom, testing::kCubePull.loads()},
             resolve_parameters(fem.parameters, {{"solver", "iterative"}, {"preconditioner", "two_level"}}, "fem")};
   auto m = fem.create();
   try {

@@ -1,6 +1,5 @@
 // The condensed (precomputed-response) FEM is the fine FEM with the direct solver,
-// to round-off, on the cube and the liver (issue 15), whichever way its columns
-// are made.
+// to round-off, on the cube and the liver, whichever way its columns are made.
 #include <gtest/gtest.h>
 
 #include "model.h"
@@ -10,14 +9,15 @@ namespace tb {
 namespace {
 
 std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
-                            const nlohmann::json& params = {}) {
-  return testing::set_up_model(name, mesh, support, params);
+                            const nlohmann::json& params = {},
+                            const std::vector<Load>& loads = testing::kCubePull.loads()) {
+  return testing::set_up_model(name, mesh, support, params, loads);
 }
 
 struct Case {
   std::string scenario;
   SupportBox support;
-  PointLoad load;
+  testing::PointForce load;
 };
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scenario; }
 
@@ -30,11 +30,11 @@ class CondensedEqualsFem : public ::testing::TestWithParam<std::tuple<Case, std:
 TEST_P(CondensedEqualsFem, ToRoundOff) {
   const auto& [c, precompute] = GetParam();
   const HybridMesh& mesh = testing::scenario_mesh(c.scenario);
-  auto fem = make("fem", mesh, c.support, {{"solver", "direct"}});
-  auto condensed = make("condensed", mesh, c.support, {{"precompute", precompute}});
+  auto fem = make("fem", mesh, c.support, {{"solver", "direct"}}, c.load.loads());
+  auto condensed = make("condensed", mesh, c.support, {{"precompute", precompute}}, c.load.loads());
   // Two load levels (the runner ramps the load) and the reversed load.
   for (double scale : {0.3, 1.0, -1.0}) {
-    const PointLoad load{c.load.point, scale * c.load.force};
+    const FrameLoads load = c.load.scaled(scale).frame();
     fem->step(load);
     condensed->step(load);
     const Displacements& a = fem->surface_displacement();

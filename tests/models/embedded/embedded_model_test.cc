@@ -11,7 +11,7 @@ namespace tb {
 namespace {
 
 const SupportBox kBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
-const PointLoad kPull{{0, 0, 0.1}, {0, 0, 1}};
+const FrameLoads kPull = testing::kCubePull.frame();
 
 std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const nlohmann::json& params = {}) {
   return testing::set_up_model(name, mesh, kBottom, params);
@@ -52,7 +52,7 @@ TEST(EmbeddedModel, MovesControlPointsAsTheHybridsCoarseFem) {
 
 TEST(EmbeddedModel, ZeroLoadIsRest) {
   auto m = make("embedded", testing::scenario_mesh("cube-pull"));
-  m->step({kPull.point, Eigen::Vector3d::Zero()});
+  m->step(testing::kCubePull.scaled(0).frame());
   EXPECT_EQ(m->surface_displacement().cwiseAbs().maxCoeff(), 0.0);
 }
 

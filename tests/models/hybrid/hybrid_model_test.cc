@@ -14,7 +14,7 @@ namespace tb {
 namespace {
 
 const SupportBox kBottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
-const PointLoad kPull{{0, 0, 0.1}, {0, 0, 1}};
+const FrameLoads kPull = testing::kCubePull.frame();
 
 std::unique_ptr<Model> make(const std::string& name, const HybridMesh& mesh, const nlohmann::json& params = {}) {
   return testing::set_up_model(name, mesh, kBottom, params);
@@ -27,9 +27,10 @@ TEST(HybridModel, ControlPointsAreTheCoarseSolutionAtTheirWeights) {
   // its containing coarse tet. Each control point must sit at rest + sum_j w_j u_j.
   const HybridMesh& h = cube();
   const ElasticBody coarse(h.coarse_volume, Material{}, kBottom.select(h.coarse_volume.V));
-  auto solve = make_elastic_solve("direct", coarse, {});
+  auto solve = make_direct_solve(coarse);
+  const BodyLoads loads(coarse, {containing_tet(h.coarse_volume, testing::kCubePull.point, "coarse volume")});
   Eigen::VectorXd u_coarse;
-  solve->solve(containing_tet(h.coarse_volume, kPull.point, "coarse volume"), kPull.force, u_coarse);
+  solve->solve(loads, {testing::kCubePull.force}, u_coarse);
 
   for (const std::string surface_force : {"none", "applied"}) {
     auto m = make("hybrid", h, {{"surface_force", surface_force}});
@@ -39,7 +40,7 @@ TEST(HybridModel, ControlPointsAreTheCoarseSolutionAtTheirWeights) {
     for (const ControlPoint& cp : h.control_points) {
       Eigen::Vector3d expected = Eigen::Vector3d::Zero();
       for (int j = 0; j < 4; ++j)
-        expected += cp.weights(j) * u_coarse.segment<3>(3 * h.coarse_volume.T(cp.coarse_tet, j));
+        expected += cp.coarse.weights(j) * u_coarse.segment<3>(3 * h.coarse_volume.T(cp.coarse.tet, j));
       worst = std::max(worst, (u.row(cp.surface_vertex).transpose() - expected).norm());
       largest = std::max(largest, expected.norm());
     }
@@ -50,7 +51,8 @@ TEST(HybridModel, ControlPointsAreTheCoarseSolutionAtTheirWeights) {
 
 TEST(HybridModel, ZeroLoadLeavesEveryVertexExactlyAtRest) {
   auto m = make("hybrid", cube());
-  for (int frame = 0; frame < 50; ++frame) m->step({kPull.point, Eigen::Vector3d::Zero()});
+  const FrameLoads none = testing::kCubePull.scaled(0).frame();
+  for (int frame = 0; frame < 50; ++frame) m->step(none);
   EXPECT_EQ(m->surface_displacement().cwiseAbs().maxCoeff(), 0.0);
 }
 
@@ -65,13 +67,13 @@ TEST(HybridModel, WithTheFineVolumeAsCoarseMeshItIsTheFineFem) {
     const int node = fine.fine_surface_to_volume[static_cast<size_t>(v)];
     ControlPoint cp;
     cp.surface_vertex = static_cast<int>(v);
-    for (Eigen::Index t = 0; t < h.coarse_volume.T.rows() && cp.coarse_tet < 0; ++t)
+    for (Eigen::Index t = 0; t < h.coarse_volume.T.rows() && cp.coarse.tet < 0; ++t)
       for (int k = 0; k < 4; ++k)
         if (h.coarse_volume.T(t, k) == node) {
-          cp.coarse_tet = static_cast<int>(t);
-          cp.weights = Eigen::Vector4d::Unit(k);
+          cp.coarse.tet = static_cast<int>(t);
+          cp.coarse.weights = Eigen::Vector4d::Unit(k);
         }
-    ASSERT_GE(cp.coarse_tet, 0);
+    ASSERT_GE(cp.coarse.tet, 0);
     h.control_points.push_back(cp);
   }
   auto hybrid = make("hybrid", h);
@@ -148,7 +150,7 @@ namespace {
 
 TEST(HybridModel, LoadOnTheSurfaceOutsideTheCoarseHullMapsToTheNearestCoarseTet) {
   // The liver's given coarse mesh does not cover all of its fine surface: load the
-  // surface vertex farthest outside it (issue 14: it used to be "outside the mesh").
+  // surface vertex farthest outside it.
   const HybridMesh& h = testing::scenario_mesh("liver-pull");
   Eigen::Index worst = 0;
   double distance = 0;
@@ -161,13 +163,10 @@ TEST(HybridModel, LoadOnTheSurfaceOutsideTheCoarseHullMapsToTheNearestCoarseTet)
   }
   ASSERT_GT(distance, 1e-4) << "expected a surface vertex outside the coarse mesh";
   const SupportBox liver_bottom{{-1, -1, -1}, {1, 1, -0.0101}};
-  const PointLoad load{h.fine_surface.V.row(worst).transpose(), {0, 0, 0.01}};
+  const testing::PointForce load{h.fine_surface.V.row(worst).transpose(), {0, 0, 0.01}};
   for (const std::string model : {"hybrid", "embedded", "fem", "pbd"}) {
-    const ModelInfo& info = find_model(model);
-    Problem p{&h, Material{}, liver_bottom, resolve_parameters(info.parameters, {}, model)};
-    auto m = info.create();
-    m->setup(p);
-    for (int frame = 0; frame < 5; ++frame) m->step(load);
+    auto m = testing::set_up_model(model, h, liver_bottom, {}, load.loads());
+    for (int frame = 0; frame < 5; ++frame) m->step(load.frame());
     EXPECT_TRUE(m->surface_displacement().allFinite()) << model;
     EXPECT_GT(m->surface_displacement().norm(), 0) << model;
     if (model == "hybrid" || model == "embedded") {
@@ -183,14 +182,14 @@ TEST(HybridModel, SurfaceSupportCoarseFemPinsTheSupportedSurfaceToTheCoarseSolut
   // clamped, the default, keeps them at rest.
   const HybridMesh& h = testing::scenario_mesh("liver-pull", false);
   const SupportBox liver_bottom{{-1, -1, -1}, {1, 1, -0.0101}};
-  const PointLoad push{{-0.01731, 0.02453, 0.0253}, {0, 0, -0.1}};
-  auto follow = testing::set_up_model("hybrid", h, liver_bottom, {{"surface_support", "coarse_fem"}});
-  auto clamped = testing::set_up_model("hybrid", h, liver_bottom);
-  auto embedded = testing::set_up_model("embedded", h, liver_bottom);
+  const testing::PointForce push{{-0.01731, 0.02453, 0.0253}, {0, 0, -0.1}};
+  auto follow = testing::set_up_model("hybrid", h, liver_bottom, {{"surface_support", "coarse_fem"}}, push.loads());
+  auto clamped = testing::set_up_model("hybrid", h, liver_bottom, {}, push.loads());
+  auto embedded = testing::set_up_model("embedded", h, liver_bottom, {}, push.loads());
   for (int frame = 0; frame < 3; ++frame) {
-    follow->step(push);
-    clamped->step(push);
-    embedded->step(push);
+    follow->step(push.frame());
+    clamped->step(push.frame());
+    embedded->step(push.frame());
   }
   std::vector<char> control(static_cast<size_t>(h.fine_surface.V.rows()));
   for (const ControlPoint& cp : h.control_points) control[static_cast<size_t>(cp.surface_vertex)] = 1;

@@ -1,0 +1,29 @@
+// The load kinds' names and the Load constructors (load_case.h); the support box is
+// in support.cc.
+#include "load_case.h"
+
+namespace tb {
+
+const char* name(LoadKind kind) {
+  switch (kind) {
+    case LoadKind::PointForce:
+      return "point_force";
+    case LoadKind::SurfaceTraction:
+      return "surface_traction";
+    case LoadKind::BodyForce:
+      return "body_force";
+  }
+  return "unknown";
+}
+
+Load Load::point_force(const Eigen::Vector3d& point, std::string key) {
+  return Load{LoadKind::PointForce, std::move(key), point, 0};
+}
+
+Load Load::surface_traction(const Eigen::Vector3d& centre, double radius, std::string key) {
+  return Load{LoadKind::SurfaceTraction, std::move(key), centre, radius};
+}
+
+Load Load::body_force(std::string key) { return Load{LoadKind::BodyForce, std::move(key), Eigen::Vector3d::Zero(), 0}; }
+
+}  // namespace tb

@@ -1,0 +1,76 @@
+// The boundary-value problem every model receives (docs/architecture.md): the
+// support, and the loads, each placed in the rest configuration once (setup) and
+// given a value every frame (a force that ramps, a gravity switched on). A model
+// maps each load onto its meshes in setup, so a frame does no search and no
+// allocation; ModelInfo::loads says which kinds it takes, and any other is one
+// error before setup (check_supported).
+//
+// A new kind of load is: its LoadKind and name below, how it is placed (Load), and
+// its mapping onto nodes in models/numerics/embedding/load_mapping.h; then each
+// model that takes it lists it in its ModelInfo (docs/extending.md).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "mesh_types.h"
+
+namespace tb {
+
+/// Vertices whose rest position lies in [min, max] (component-wise) are clamped.
+struct SupportBox {
+  Eigen::Vector3d min = Eigen::Vector3d::Constant(-1e300), max = Eigen::Vector3d::Constant(1e300);
+  bool contains(const Eigen::Vector3d& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
+  /// #V flags: 1 where the row of V is clamped.
+  std::vector<char> select(const Points& V) const;
+  /// select(V), checked to hold the body: at least three clamped nodes not on
+  /// one line, else a std::invalid_argument naming this box, `mesh_name` and the
+  /// counts (a support that leaves rigid motions free makes K singular and PBD
+  /// drift). Every model calls it for every mesh it uses, before factorising.
+  std::vector<char> clamp(const Points& V, const std::string& mesh_name) const;
+};
+
+/// What a load is, and so what its value each frame means.
+enum class LoadKind {
+  PointForce,       ///< a force (N) at a point: the paper's load
+  SurfaceTraction,  ///< a total force (N) spread uniformly over a disc on the surface
+  BodyForce,        ///< an acceleration g (m/s^2): the force density rho g everywhere (gravity)
+};
+inline constexpr LoadKind kLoadKinds[] = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+/// "point_force", "surface_traction", "body_force": the names scenario files and
+/// `tissuebench models` use.
+const char* name(LoadKind kind);
+
+/// A load as placed in the rest configuration, fixed for the run.
+struct Load {
+  LoadKind kind = LoadKind::PointForce;
+  /// Where the scenario states it ("load", "loads[1]"): named in every error about it.
+  std::string key = "load";
+  /// PointForce: where it acts; SurfaceTraction: the disc's centre, on the surface (m).
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double radius = 0;  ///< SurfaceTraction: the disc's radius (m)
+
+  static Load point_force(const Eigen::Vector3d& point, std::string key = "load");
+  static Load surface_traction(const Eigen::Vector3d& centre, double radius, std::string key = "load");
+  static Load body_force(std::string key = "gravity");
+};
+
+/// Everything a run holds fixed about the boundary-value problem.
+struct LoadCase {
+  SupportBox support;
+  std::vector<Load> loads;
+};
+
+/// One frame's value of every load of the LoadCase, in its order: a force (N) for
+/// PointForce and SurfaceTraction, an acceleration (m/s^2) for BodyForce.
+struct FrameLoads {
+  std::vector<Eigen::Vector3d> values;
+};
+
+/// `values` for a LoadCase of one load (tests, benchmarks).
+inline FrameLoads frame_of(const Eigen::Vector3d& value) { return FrameLoads{{value}}; }
+
+}  // namespace tb

@@ -1,0 +1,95 @@
+// How K u = f (eq. 11) is solved each frame on an assembled ElasticBody: a
+// strategy chosen by parameter, so the fine FEM and the coarse meshes of the
+// hybrid and embedded models pick theirs without knowing how it works. Each
+// strategy is one file (direct_solve.cc, iterative_solve.cc, corotational_solve.cc)
+// declaring its own parameters; the list of strategies is elastic_solve.cc, one
+// line each (docs/extending.md).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "elastic_body.h"
+#include "parameters.h"
+
+namespace tb {
+
+class ElasticSolve {
+ public:
+  virtual ~ElasticSolve() = default;
+  /// This frame's displacement under the force f_free on the body's free dofs.
+  ///   f_free        #free dofs
+  ///   nonzero_rows  the free dofs where f_free may be nonzero, sorted (null:
+  ///                 anywhere); a strategy may use them (direct: the forward
+  ///                 substitution visits only their elimination-tree paths)
+  ///   u             3 #V: in, the previous frame's (a warm start, or the state a
+  ///                 nonlinear strategy continues from); out, this frame's.
+  /// No heap allocation once a pattern of nonzero rows has been seen.
+  virtual void solve(const Eigen::VectorXd& f_free, const std::vector<int>* nonzero_rows, Eigen::VectorXd& u) = 0;
+  /// solve() under loads.assemble(values), with the loads' nonzero rows.
+  void solve(const BodyLoads& loads, const std::vector<Eigen::Vector3d>& values, Eigen::VectorXd& u) {
+    loads.assemble(values, load_work_);
+    solve(load_work_, &loads.loaded_free_dofs(), u);
+  }
+  /// Solver iterations of the last solve, where meaningful (else 0).
+  virtual int last_iterations() const { return 0; }
+  /// Facts worth writing beside a result (factor size, preconditioner ...).
+  virtual nlohmann::json report() const { return nlohmann::json::object(); }
+
+ private:
+  Eigen::VectorXd load_work_;
+};
+
+/// What a strategy may use beyond the body and its parameters.
+struct ElasticSolveContext {
+  /// A coarser tet mesh of the same body (the two-level preconditioner's coarse
+  /// space); null when the model has none.
+  const TetMesh* coarse_space = nullptr;
+};
+
+/// A strategy: its name, what it is, the parameters it reads (each name prefixed
+/// by the model's prefix, "" or "coarse_") and how to make one.
+struct ElasticSolveInfo {
+  std::string name;
+  std::string description;
+  /// Its parameters. Two strategies may declare the same name (cg_tolerance) only
+  /// with the same spec.
+  std::function<std::vector<ParameterSpec>(const std::string& prefix)> parameters;
+  /// Throws std::invalid_argument naming the parameter (with its prefix) when the
+  /// parameters or the context do not allow it.
+  std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Parameters&, const std::string& prefix,
+                                              const ElasticSolveContext&)>
+      create;
+};
+
+/// Every strategy, in one explicit list (elastic_solve.cc).
+const std::vector<ElasticSolveInfo>& elastic_solves();
+
+/// The strategies' registry entries (each in its own file).
+ElasticSolveInfo direct_solve_info();
+ElasticSolveInfo iterative_solve_info();
+ElasticSolveInfo corotational_solve_info();
+
+/// The cg_tolerance parameter (with `prefix`), shared by the strategies that run CG.
+std::vector<ParameterSpec> cg_tolerance_parameter(const std::string& prefix);
+
+/// The model parameters that choose and tune an elastic solve, each name prefixed
+/// by `prefix` ("" in the fem model: solver, preconditioner, cg_tolerance ...;
+/// "coarse_" in the hybrid and embedded models): `solver` and every strategy's own,
+/// declared once here for every model that has one.
+std::vector<ParameterSpec> elastic_solve_parameters(const std::string& prefix, const std::string& default_solver,
+                                                    const std::string& default_preconditioner);
+
+/// The strategy the resolved parameters `p` ask for (names with `prefix`) on `body`
+/// (which must outlive it). Throws std::invalid_argument for unusable options.
+std::unique_ptr<ElasticSolve> make_elastic_solve(const ElasticBody& body, const Parameters& p,
+                                                 const std::string& prefix, const ElasticSolveContext& context = {});
+
+/// The direct solve alone (CHOLMOD factorisation once): for precomputations.
+std::unique_ptr<ElasticSolve> make_direct_solve(const ElasticBody& body);
+
+}  // namespace tb

@@ -1,0 +1,440 @@
+#include "pbd_solver.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include "constraints.h"
+#include "domain_partition.h"
+#include "mesh_checks.h"
+#include "reference_projections.h"
+#include "xpbd_compliance.h"
+
+namespace tb::pbd {
+namespace {
+
+/// The rows of vertices ordered domain by domain (by vertex within a domain):
+/// result[v] is vertex v's row.
+std::vector<int> rows_by_domain(const std::vector<int>& domain) {
+  std::vector<int> vertices(domain.size());
+  std::iota(vertices.begin(), vertices.end(), 0);
+  std::stable_sort(vertices.begin(), vertices.end(),
+                   [&](int a, int b) { return domain[static_cast<size_t>(a)] < domain[static_cast<size_t>(b)]; });
+  std::vector<int> row(domain.size());
+  for (size_t r = 0; r < vertices.size(); ++r) row[static_cast<size_t>(vertices[r])] = static_cast<int>(r);
+  return row;
+}
+
+/// inverse_mass, checked to have one entry per vertex before the constraint
+/// batches index it.
+const Eigen::VectorXd& one_per_vertex(const Eigen::VectorXd& inverse_mass, Eigen::Index vertex_count) {
+  if (inverse_mass.size() != vertex_count) throw std::invalid_argument("inverse masses: one per vertex expected");
+  return inverse_mass;
+}
+
+/// The domains' work per vertex: 1 for a free vertex, 0 for a fixed one (the
+/// constraints among fixed vertices are dropped, so they cost nothing).
+std::vector<double> free_vertices(const Eigen::VectorXd& inverse_mass) {
+  std::vector<double> work(static_cast<size_t>(inverse_mass.size()));
+  for (Eigen::Index v = 0; v < inverse_mass.size(); ++v) work[static_cast<size_t>(v)] = inverse_mass(v) > 0 ? 1 : 0;
+  return work;
+}
+
+}  // namespace
+
+std::vector<ParameterSpec> parameter_specs() {
+  using P = ParameterSpec;
+  const Settings d;  // each default stated once, in Settings
+  auto name_of = [](bool first, const char* a, const char* b) { return first ? a : b; };
+  return {
+      P::number("time_step", d.time_step, 1e-6, 1.0, "time step per frame, s"),
+      P::whole_number("substeps", d.substeps, 1, 1000,
+                      "sub-steps per frame (Macklin et al. 2019): each frame runs this many steps of "
+                      "time_step / substeps, each with eqs. (31)-(35) and `iterations` sweeps (pinned control points "
+                      "held at the frame's positions); 1: the paper's step"),
+      P::whole_number("iterations", d.iterations, 1, 1000, "Gauss-Seidel projection sweeps per (sub)step"),
+      P::number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
+      P::number("bending_stiffness", d.bending_stiffness, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
+      P::choice("stiffness_correction", {"mueller2007", "none"}, name_of(d.correct_stiffness, "mueller2007", "none"),
+                "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given"),
+      P::number("damping", d.damping, 0.0, 1.0,
+                "fraction of each vertex velocity removed per (sub)step, after eq. (31) adds the force (a steady "
+                "state applies (1 - damping) f whatever substeps is)"),
+      P::choice("bending_angle", {"unsigned", "signed"},
+                name_of(d.bending_angle == BendingAngle::Unsigned, "unsigned", "signed"),
+                "unsigned: the paper's eq. (19), arccos(n1.n2) - phi0 (kinked where a pair passes through flat); "
+                "signed: theta - theta0, smooth there"),
+      P::choice("load_spread", {"nearest_vertex", "surface_triangle"},
+                name_of(d.load_spread == LoadSpread::NearestVertex, "nearest_vertex", "surface_triangle"),
+                "where eq. (31) applies the load: nearest_vertex, the surface vertex nearest the load point (the "
+                "paper); surface_triangle, the nearest surface point, the force shared by its triangle's vertices "
+                "by barycentric weights (as the FEM's P1 load)"),
+      P::choice(
+          "kernels", {"simd", "reference"}, name_of(d.kernels == Kernels::Simd, "simd", "reference"),
+          "simd: the batched vector kernels (projection_kernels.h); reference: the scalar projections written "
+          "from eqs. (14)-(30) (reference_projections.h), one constraint at a time in the same order, one thread"),
+      P::whole_number("threads", d.threads, 1, 64,
+                      "threads sweeping each colour's constraints (the result does not depend on it)"),
+      P::whole_number("domains", d.domains, 1, 64,
+                      "spatial domains of the sweep order: 1, every constraint coloured (the paper's tables); n, the "
+                      "surface bisected into n domains, each swept whole by one thread, then the constraints across "
+                      "domains colour by colour: far fewer barriers (use with threads > 1). Changes the Gauss-Seidel "
+                      "order, and with it the unconverged PBD steady state: on the paper cube by 3 % of max |u| with "
+                      "2 domains, 8-14 % with 8 (README)"),
+      P::choice("precision", {"double", "single"}, name_of(d.precision == Precision::Double, "double", "single"),
+                "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
+                "from double's by rounding, README)"),
+      P::choice("instruction_set", {"auto", "sse2", "avx", "avx512vl", "avx512"}, "auto",
+                "the sweep's vector instructions; auto: avx512vl (256-bit vectors, 32 registers) where the CPU has "
+                "it, else avx, else sse2 (avx512, 512-bit, measured slower on "
+                "this project's AMD EPYC: only when asked); double precision gives the same numbers on every one"),
+      P::choice("constraint_solve", {"pbd", "xpbd"}, name_of(d.constraint_solve == ConstraintSolve::Pbd, "pbd", "xpbd"),
+                "pbd: the paper's projections with stretch_stiffness and bending_stiffness in [0, 1]; xpbd: Macklin, "
+                "Mueller, Chentanez 2016, compliance per constraint from the material (stretch k = E h A_e / L_e^2, "
+                "bending k = 3 D L_e^2 / A_e with D = E h^3 / (12 (1 - nu^2)); models/numerics/pbd/xpbd_compliance.h) and "
+                "Lagrange multipliers accumulated over the frame's iterations; needs kernels 'reference', "
+                "bending_angle 'signed' and the stiffnesses at 1"),
+      P::number("shell_thickness", d.shell_thickness, 0.0, 10.0,
+                "xpbd: thickness h of the shell the surface stands for, m; 0: the body's enclosed volume / surface "
+                "area (a shell holding the body's volume; 1/6 of the side of a cube)"),
+  };
+}
+
+Settings Settings::from(const Parameters& p) {
+  Settings s;
+  s.time_step = p.number("time_step");
+  s.substeps = p.integer("substeps");
+  s.iterations = p.integer("iterations");
+  s.stretch_stiffness = p.number("stretch_stiffness");
+  s.bending_stiffness = p.number("bending_stiffness");
+  s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
+  s.damping = p.number("damping");
+  s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
+  s.load_spread =
+      p.choice("load_spread") == "surface_triangle" ? LoadSpread::SurfaceTriangle : LoadSpread::NearestVertex;
+  s.kernels = p.choice("kernels") == "reference" ? Kernels::Reference : Kernels::Simd;
+  s.threads = p.integer("threads");
+  s.domains = p.integer("domains");
+  s.precision = p.choice("precision") == "single" ? Precision::Single : Precision::Double;
+  const std::string& isa = p.choice("instruction_set");
+  if (isa != "auto")
+    for (InstructionSet candidate : kInstructionSets)
+      if (isa == name(candidate)) s.instruction_set = candidate;
+  if (s.kernels == Kernels::Reference && s.threads != 1)
+    throw std::invalid_argument(
+        "PBD parameters: kernels 'reference' runs on one thread (threads = " + std::to_string(s.threads) + " given)");
+  if (s.kernels == Kernels::Reference && s.precision != Precision::Double)
+    throw std::invalid_argument("PBD parameters: kernels 'reference' runs in double precision");
+  s.constraint_solve = p.choice("constraint_solve") == "xpbd" ? ConstraintSolve::Xpbd : ConstraintSolve::Pbd;
+  s.shell_thickness = p.number("shell_thickness");
+  if (s.constraint_solve == ConstraintSolve::Xpbd) {
+    if (s.kernels != Kernels::Reference)
+      throw std::invalid_argument(
+          "PBD parameters: constraint_solve 'xpbd' is implemented in the scalar reference projections only: "
+          "set kernels 'reference' (the SIMD kernels have no XPBD update)");
+    // The multiplier of C = |theta| - |theta0| changes meaning when theta changes
+    // sign within a frame: on the paper cube (flat pairs at rest) the unsigned angle
+    // measured no steady state in 5000 frames at 100 iterations, the signed one
+    // steady in 145 (README).
+    if (s.bending_angle != BendingAngle::Signed)
+      throw std::invalid_argument(
+          "PBD parameters: constraint_solve 'xpbd' needs bending_angle 'signed' (its multipliers accumulate "
+          "over a frame, and |theta| flips its gradient where a pair passes through flat)");
+    if (s.stretch_stiffness != 1 || s.bending_stiffness != 1)
+      throw std::invalid_argument(
+          "PBD parameters: constraint_solve 'xpbd' derives its stiffness from the material: stretch_stiffness and "
+          "bending_stiffness must stay 1 (set shell_thickness or the material instead)");
+  } else if (s.shell_thickness != 0) {
+    throw std::invalid_argument("PBD parameters: shell_thickness applies to constraint_solve 'xpbd' only");
+  }
+  return s;
+}
+
+Settings Settings::from(const Parameters& p, const Material& material) {
+  Settings s = from(p);
+  s.material = material;
+  return s;
+}
+
+ConstraintSet build_constraints(const SurfaceMesh& s) {
+  // Each edge with its triangles' opposite vertices, in (min, max) edge order so the
+  // constraint order is deterministic.
+  std::map<std::pair<int, int>, std::vector<std::array<int, 3>>> edges;  // (a, b, opposite) as traversed
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = s.F(t, k), b = s.F(t, (k + 1) % 3), o = s.F(t, (k + 2) % 3);
+      edges[{std::min(a, b), std::max(a, b)}].push_back({{a, b, o}});
+    }
+  ConstraintSet c;
+  c.stretch.resize(static_cast<Eigen::Index>(edges.size()), 2);
+  c.stretch_rest.resize(static_cast<Eigen::Index>(edges.size()));
+  std::vector<std::array<int, 4>> bends;
+  Eigen::Index i = 0;
+  for (const auto& [e, tris] : edges) {
+    c.stretch.row(i) << e.first, e.second;
+    c.stretch_rest(i) = (s.V.row(e.first) - s.V.row(e.second)).norm();
+    ++i;
+    if (tris.size() == 2) {
+      // p1 -> p2 as the first triangle traverses the edge, p3 its opposite vertex,
+      // p4 the other triangle's: triangles (p1, p2, p3) and (p2, p1, p4), as
+      // constraints.h expects.
+      bends.push_back({{tris[0][0], tris[0][1], tris[0][2], tris[1][2]}});
+    }
+  }
+  c.bending.resize(static_cast<Eigen::Index>(bends.size()), 4);
+  c.bending_rest.resize(static_cast<Eigen::Index>(bends.size()));
+  for (size_t b = 0; b < bends.size(); ++b) {
+    const auto& q = bends[b];
+    c.bending.row(static_cast<Eigen::Index>(b)) << q[0], q[1], q[2], q[3];
+    c.bending_rest(static_cast<Eigen::Index>(b)) = signed_normal_angle(
+        s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(), s.V.row(q[3]).transpose());
+  }
+  return c;
+}
+
+Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(s.V.rows());
+  double total_area = 0;
+  for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
+    const Eigen::Vector3d a = s.V.row(s.F(t, 0)), b = s.V.row(s.F(t, 1)), c = s.V.row(s.F(t, 2));
+    const double A = 0.5 * (b - a).cross(c - a).norm();
+    for (int k = 0; k < 3; ++k) area(s.F(t, k)) += A / 3;
+    total_area += A;
+  }
+  return area * (density * enclosed_volume(s) / total_area);
+}
+
+Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings)
+    : rest_(rest.V),
+      x_(rest.V),
+      v_(Points::Zero(rest.V.rows(), 3)),
+      p_(settings.precision == Precision::Single ? 0 : rest.V.rows()),
+      q_(settings.precision == Precision::Single ? rest.V.rows() : 0),
+      w_(one_per_vertex(inverse_mass, rest.V.rows())),
+      c_(build_constraints(rest)),
+      s_(settings),
+      isa_(s_.instruction_set.value_or(best_instruction_set())),
+      domain_(bisect_into_domains(rest.V, s_.domains, free_vertices(w_))),
+      row_of_(s_.domains > 1 ? rows_by_domain(domain_) : std::vector<int>{}),
+      batches_(pack_batches(batch_width(isa_, s_.precision))) {
+  if (!cpu_supports(isa_))
+    throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
+  k_stretch_ =
+      s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
+  k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
+  if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
+  if (s_.substeps < 1)
+    throw std::invalid_argument("PBD solver: substeps must be at least 1 (" + std::to_string(s_.substeps) + " given)");
+  if (s_.kernels == Kernels::Reference && (s_.threads != 1 || s_.precision != Precision::Double))
+    throw std::invalid_argument("PBD solver: the reference kernels run on one thread in double precision");
+  if (s_.threads > 1) team_ = std::make_unique<ThreadTeam>(s_.threads);
+  if (s_.constraint_solve == ConstraintSolve::Xpbd) {
+    if (s_.kernels != Kernels::Reference || s_.bending_angle != BendingAngle::Signed)
+      throw std::invalid_argument("PBD solver: XPBD runs with the reference kernels and the signed bending angle");
+    thickness_ = s_.shell_thickness > 0 ? s_.shell_thickness : volume_preserving_thickness(rest);
+    const double E = s_.material.youngs_modulus, h = s_.time_step / s_.substeps, h2 = h * h;
+    stretch_alpha_ = stretch_compliances(rest, c_, E, thickness_);
+    bending_alpha_ = bending_compliances(rest, c_, E, s_.material.poisson_ratio, thickness_);
+    stretch_alpha_tilde_ = stretch_alpha_ / h2;  // XPBD eq. (4): alpha~ = alpha / dt^2, dt the sub-step h
+    bending_alpha_tilde_ = bending_alpha_ / h2;
+    stretch_lambda_ = Eigen::VectorXd::Zero(c_.stretch.rows());  // allocated here, reset each sub-step
+    bending_lambda_ = Eigen::VectorXd::Zero(c_.bending.rows());
+  }
+}
+
+void Solver::set_loads(std::vector<NodalWeights> loads) {
+  for (const NodalWeights& l : loads)
+    for (Eigen::Index k = 0; k < l.size(); ++k)
+      if (l.nodes(k) < 0 || l.nodes(k) >= rest_.rows())
+        throw std::invalid_argument("PBD load on vertex " + std::to_string(l.nodes(k)) + ", outside the surface's " +
+                                    std::to_string(rest_.rows()) + " vertices");
+  loads_ = std::move(loads);
+}
+
+void Solver::step(const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
+                  const Points& pinned_positions) {
+  if (load_values.size() != loads_.size())
+    throw std::invalid_argument("PBD step: " + std::to_string(load_values.size()) + " load values for " +
+                                std::to_string(loads_.size()) + " loads");
+  projection_ms_ = integration_ms_ = 0;
+  // Sub-stepping (Macklin et al. 2019): n steps of h = time_step / n. With n = 1,
+  // h is time_step exactly and the frame is the paper's step, bit for bit.
+  const double h = s_.time_step / s_.substeps;
+  for (int k = 0; k < s_.substeps; ++k) substep(h, load_values, pinned, pinned_positions);
+}
+
+void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
+                     const Points& pinned_positions) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  for (size_t l = 0; l < loads_.size(); ++l) {  // eq. (31), each force shared by its vertices
+    const NodalWeights& load = loads_[l];
+    for (Eigen::Index k = 0; k < load.size(); ++k)
+      if (load.weights(k) != 0)
+        v_.row(load.nodes(k)) += (dt * w_(load.nodes(k)) * load.weights(k)) * load_values[l].transpose();
+  }
+  // Damping (per (sub)step: the steady state applies (1 - damping) f for any
+  // substeps) and eq. (32), fixed vertices having v = 0, written straight into the
+  // rows the sweep moves: float rows for a single-precision sweep (the same
+  // numbers as rounding double rows), vertices shared out over the team.
+  const double keep = 1 - s_.damping;
+  const bool single = s_.kernels == Kernels::Simd && s_.precision == Precision::Single;
+  for_vertex_ranges([&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index v = begin; v < end; ++v) {
+      v_.row(v) *= keep;
+      const Eigen::RowVector3d p = x_.row(v) + dt * v_.row(v);
+      if (single)
+        q_.matrix().row(row(v)).head<3>() = p.cast<float>();
+      else
+        p_.matrix().row(row(v)).head<3>() = p;
+    }
+  });
+  const auto t1 = Clock::now();
+  for (size_t k = 0; k < pinned.size(); ++k) {  // eq. (33)
+    const Eigen::Index r = row(pinned[k]);
+    const auto at = pinned_positions.row(static_cast<Eigen::Index>(k));
+    if (single)
+      q_.matrix().row(r).head<3>() = at.cast<float>();
+    else
+      p_.matrix().row(r).head<3>() = at;
+  }
+  // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
+  // most of the bias a fixed constraint order leaves in the steady state.
+  if (single) {
+    batches_.project(q_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+  } else if (s_.kernels == Kernels::Simd) {
+    batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+  } else if (s_.constraint_solve == ConstraintSolve::Xpbd) {
+    stretch_lambda_.setZero();  // XPBD: the multipliers start from 0 each (sub)step
+    bending_lambda_.setZero();
+    for (int it = 0; it < s_.iterations; ++it) xpbd_sweep(it % 2 == 1);
+  } else {
+    for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
+  }
+  const auto t2 = Clock::now();
+  for_vertex_ranges([&](Eigen::Index begin, Eigen::Index end) {  // eqs. (35) and (34)
+    for (Eigen::Index v = begin; v < end; ++v) {
+      const Eigen::RowVector3d p = single ? Eigen::RowVector3d(q_.matrix().row(row(v)).head<3>().cast<double>())
+                                          : Eigen::RowVector3d(p_.matrix().row(row(v)).head<3>());
+      v_.row(v) = (p - x_.row(v)) / dt;
+      x_.row(v) = p;
+    }
+  });
+  const auto t3 = Clock::now();
+  using Ms = std::chrono::duration<double, std::milli>;
+  projection_ms_ += Ms(t2 - t1).count();
+  integration_ms_ += Ms(t1 - t0).count() + Ms(t3 - t2).count();
+}
+
+template <class RangeBody>
+void Solver::for_vertex_ranges(RangeBody&& body) {
+  const Eigen::Index n = x_.rows();
+  if (!team_) return body(Eigen::Index{0}, n);
+  const Eigen::Index members = team_->size();
+  auto task = [&](int member) { body(n * member / members, n * (member + 1) / members); };
+  team_->run(task);
+}
+
+nlohmann::json Solver::details() const {
+  const bool reference = s_.kernels == Kernels::Reference;
+  nlohmann::json d = {{"instruction_set", reference ? "scalar" : name(isa_)},
+                      {"lanes", reference ? 1 : batches_.width()},
+                      {"precision", name(s_.precision)},
+                      {"threads", s_.threads},
+                      {"domains", s_.domains},
+                      {"constraint_solve", s_.constraint_solve == ConstraintSolve::Xpbd ? "xpbd" : "pbd"}};
+  if (s_.constraint_solve == ConstraintSolve::Xpbd) {
+    d["shell_thickness_m"] = thickness_;
+    // k = 1 / alpha: N/m for stretch, N m for bending
+    d["stretch_stiffness_N_per_m"] = {1 / stretch_alpha_.maxCoeff(), 1 / stretch_alpha_.minCoeff()};
+    if (bending_alpha_.size() > 0)
+      d["bending_stiffness_N_m"] = {1 / bending_alpha_.maxCoeff(), 1 / bending_alpha_.minCoeff()};
+  }
+  return d;
+}
+
+void Solver::use_instruction_set(InstructionSet isa) {
+  if (batch_width(isa, s_.precision) != batches_.width()) batches_ = pack_batches(batch_width(isa, s_.precision));
+  isa_ = isa;
+}
+
+ConstraintBatches Solver::pack_batches(int width) const {
+  if (row_of_.empty()) return ConstraintBatches(c_, w_, width, s_.precision);
+  // The same constraints (rows, order, colours: the numbers do not change) on rows of p_.
+  ConstraintSet on_rows = c_;
+  for (Eigen::Index i = 0; i < on_rows.stretch.size(); ++i) on_rows.stretch.data()[i] = row(on_rows.stretch.data()[i]);
+  for (Eigen::Index i = 0; i < on_rows.bending.size(); ++i) on_rows.bending.data()[i] = row(on_rows.bending.data()[i]);
+  Eigen::VectorXd w_of_row(w_.size());
+  std::vector<int> domain_of_row(domain_.size());
+  for (Eigen::Index v = 0; v < w_.size(); ++v) {
+    w_of_row(row(v)) = w_(v);
+    domain_of_row[static_cast<size_t>(row(v))] = domain_[static_cast<size_t>(v)];
+  }
+  return ConstraintBatches(on_rows, w_of_row, width, s_.precision, domain_of_row);
+}
+
+template <class ProjectStretch, class ProjectBending>
+void Solver::scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending) {
+  double* x = p_.data();
+  auto P = [this, x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * row(v)); };
+  const std::vector<int>& so = batches_.stretch_order();
+  for (size_t k = 0; k < so.size(); ++k) {
+    const int i = so[reverse ? so.size() - 1 - k : k];
+    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
+    Vec3 ca, cb;
+    stretch(i, P(a), w_(a), P(b), w_(b), ca, cb);
+    P(a) += ca;
+    P(b) += cb;
+  }
+  if (!with_bending) return;
+  const std::vector<int>& bo = batches_.bending_order();
+  for (size_t k = 0; k < bo.size(); ++k) {
+    const int i = bo[reverse ? bo.size() - 1 - k : k];
+    int q[4];
+    for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
+    Vec3 corr[4];
+    bending(i, P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]), corr);
+    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
+  }
+}
+
+void Solver::reference_sweep(bool reverse) {
+  scalar_sweep(
+      reverse, k_bend_ > 0,
+      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
+        reference::project_stretch(a, wa, b, wb, c_.stretch_rest(i), k_stretch_, ca, cb);
+      },
+      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+             double w4, Vec3* corr) {
+        reference::project_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
+      });
+}
+
+void Solver::xpbd_sweep(bool reverse) {
+  scalar_sweep(
+      reverse, true,
+      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
+        reference::xpbd_stretch(a, wa, b, wb, c_.stretch_rest(i), stretch_alpha_tilde_(i), stretch_lambda_(i), ca, cb);
+      },
+      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
+             double w4, Vec3* corr) {
+        reference::xpbd_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), bending_alpha_tilde_(i),
+                                bending_lambda_(i), corr, s_.bending_angle);
+      });
+}
+
+}  // namespace tb::pbd
+
+namespace tb::pbd {
+
+Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const std::vector<char>& fixed) {
+  const Eigen::VectorXd m = lumped_surface_masses(surface, density);
+  Eigen::VectorXd w(m.size());
+  for (Eigen::Index v = 0; v < m.size(); ++v) w(v) = fixed[static_cast<size_t>(v)] ? 0.0 : 1.0 / m(v);
+  return w;
+}
+
+}  // namespace tb::pbd

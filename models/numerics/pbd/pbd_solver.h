@@ -1,0 +1,205 @@
+// The PBD time step of paper 1.4-1.5 on a triangle surface: state (positions,
+// velocities, inverse masses) and the constraint set, wired to the stateless
+// projections of constraints.h. Shared by the pure PBD and the hybrid models.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "constraint_batches.h"
+#include "constraints.h"
+#include "load_mapping.h"
+#include "material.h"
+#include "mesh_types.h"
+#include "parameters.h"
+#include "thread_team.h"
+
+namespace tb::pbd {
+
+/// The PBD parameters common to the pbd and hybrid models, declared once.
+std::vector<ParameterSpec> parameter_specs();
+
+/// Which implementation projects the constraints: the batched SIMD kernels
+/// (projection_kernels.h) or the scalar reference written from the equations
+/// (reference_projections.h), one constraint at a time in the same order.
+enum class Kernels { Simd, Reference };
+
+/// Where eq. (31) applies the load: the surface vertex nearest the load point (the
+/// paper, DESIGN.md), or the nearest surface point, the force shared by its
+/// triangle's vertices by barycentric weights (as the FEM's P1 load is).
+enum class LoadSpread { NearestVertex, SurfaceTriangle };
+
+/// How a frame's constraints are solved: PBD's projections with stiffnesses in
+/// [0, 1] (paper 1.4), or XPBD (Macklin, Mueller, Chentanez 2016): a compliance per
+/// constraint derived from the material (xpbd_compliance.h) and a Lagrange
+/// multiplier per constraint accumulated over the (sub)step's iterations (reset each
+/// sub-step), whose steady state does not depend on the iteration count. XPBD runs
+/// with the reference kernels only.
+enum class ConstraintSolve { Pbd, Xpbd };
+
+struct Settings {
+  double time_step = 0.01;                              ///< s, per frame
+  /// Sub-steps per frame (Macklin et al. 2019, "Small steps in physics simulation"):
+  /// a frame runs `substeps` time steps of time_step / substeps, each with eqs.
+  /// (31)-(35) and `iterations` sweeps. 1: the paper's step.
+  int substeps = 1;
+  int iterations = 10;                                  ///< Gauss-Seidel sweeps per (sub)step
+  double stretch_stiffness = 1;                         ///< in [0, 1]
+  double bending_stiffness = 1;                         ///< in [0, 1]
+  bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
+  /// Fraction of velocity removed per (sub)step, after eq. (31) adds the force: a
+  /// steady state applies (1 - damping) f whatever `substeps` is; a frame keeps
+  /// (1 - damping)^substeps of its velocity.
+  double damping = 0.05;
+  BendingAngle bending_angle = BendingAngle::Unsigned;  ///< eq. (19) as in the paper
+  LoadSpread load_spread = LoadSpread::NearestVertex;
+  Kernels kernels = Kernels::Simd;
+  int threads = 1;  ///< members sweeping each colour (Simd); the result does not depend on it
+  /// Spatial domains of the sweep's order (domain_partition.h): 1, the colouring
+  /// of every constraint (the paper's tables); more, each domain's constraints
+  /// coloured, then the interface's, so that threads sweep whole domains between
+  /// two barriers. Changes the Gauss-Seidel order, and with it PBD's steady state
+  /// (10 sweeps do not converge): on the paper cube by 3 % (2 domains) to 8-14 %
+  /// (8) of max |u|, r(u_z) within 0.003 (README); the result still does not
+  /// depend on the thread count.
+  int domains = 1;
+  /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
+  Precision precision = Precision::Double;
+  /// The sweep's vector instructions; none: best_instruction_set().
+  std::optional<InstructionSet> instruction_set;
+  ConstraintSolve constraint_solve = ConstraintSolve::Pbd;
+  /// XPBD: the thickness h of the shell the surface stands for (m); 0: enclosed
+  /// volume / area (volume_preserving_thickness).
+  double shell_thickness = 0;
+  /// XPBD: Young's modulus and Poisson's ratio of the compliances (density is not used here).
+  Material material;
+  static Settings from(const Parameters& p);
+  /// from(p), with the material XPBD derives its compliances from.
+  static Settings from(const Parameters& p, const Material& material);
+};
+
+/// Stretch constraints on every edge, bending constraints on every interior edge.
+///   stretch  #S by 2 vertex pairs, stretch_rest #S rest lengths
+///   bending  #B by 4 (p1, p2 shared edge; p3, p4 wings), bending_rest #B signed
+///   rest angles (signed_normal_angle)
+struct ConstraintSet {
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> stretch;
+  Eigen::VectorXd stretch_rest;
+  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> bending;
+  Eigen::VectorXd bending_rest;
+};
+/// Builds the constraints of a closed manifold surface at its rest shape.
+ConstraintSet build_constraints(const SurfaceMesh& surface);
+
+/// Lumped masses: total mass = density x enclosed volume, shared among vertices in
+/// proportion to one third of the area of their incident triangles.
+///   returns #V masses (kg)
+Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& surface, double density);
+
+class Solver {
+ public:
+  /// inverse_mass #V (0 = fixed: the clamped support and, in the hybrid, the
+  /// control points, which the projection never moves).
+  Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings);
+
+  /// The external loads (eq. 31), each spread over vertices: vertex nodes(k) of
+  /// load l receives weights(k) times load l's value. A set-up call; none by default.
+  void set_loads(std::vector<NodalWeights> loads);
+  const std::vector<NodalWeights>& loads() const { return loads_; }
+
+  /// One frame: Settings::substeps steps of h = time_step / substeps, each: the
+  /// loads' forces (set_loads, with these values): eq. (31) velocities, damping, eq.
+  /// (32) prediction, then positions of `pinned` vertices set to `pinned_positions`
+  /// (eq. 33; may be empty; the same positions in every sub-step), the Gauss-Seidel
+  /// projection (XPBD: the multipliers start from 0), and eqs. (34)-(35).
+  ///   load_values       #loads values (N, or m/s^2 for a load weighted by masses)
+  ///   pinned            #P vertex indices (must have inverse mass 0)
+  ///   pinned_positions  #P by 3 positions for this frame
+  void step(const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
+            const Points& pinned_positions);
+
+  const Points& positions() const { return x_; }
+  const Points& rest_positions() const { return rest_; }
+  const ConstraintSet& constraints() const { return c_; }
+  /// The vector instructions the projection runs with (the results do not depend on it).
+  InstructionSet instruction_set() const { return isa_; }
+  /// Run the projection with `isa` instead of the best this CPU has (repacks the
+  /// batches when their width changes: a set-up call, it allocates).
+  void use_instruction_set(InstructionSet isa);
+  const Settings& settings() const { return s_; }
+  /// Time (ms) the last step() spent in the projection (eq. 33 and the sweeps) and
+  /// in the rest of the time step (eqs. 31-32, 34-35), summed over its sub-steps.
+  double last_projection_ms() const { return projection_ms_; }
+  double last_integration_ms() const { return integration_ms_; }
+  /// What the projection ran with, for run.json: {"instruction_set": "avx512" | "avx512vl" |
+  /// "avx" | "sse2" | "scalar" (reference kernels), "lanes": per batch, "precision",
+  /// "threads", "constraint_solve": "pbd" | "xpbd"}, and with xpbd
+  /// "shell_thickness_m" (as used) and the stiffness range of each kind.
+  nlohmann::json details() const;
+  /// XPBD: per-constraint compliances alpha (stretch m/N, bending 1/(N m)), one per
+  /// ConstraintSet row, and the Lagrange multipliers of the last (sub)step; empty for PBD.
+  const Eigen::VectorXd& stretch_compliance() const { return stretch_alpha_; }
+  const Eigen::VectorXd& bending_compliance() const { return bending_alpha_; }
+  const Eigen::VectorXd& stretch_multipliers() const { return stretch_lambda_; }
+  const Eigen::VectorXd& bending_multipliers() const { return bending_lambda_; }
+  /// XPBD: the shell thickness the compliances were derived with (m); 0 for PBD.
+  double shell_thickness() const { return thickness_; }
+
+ private:
+  Points rest_, x_, v_;
+  std::vector<NodalWeights> loads_;  // set_loads
+  // The predicted positions the projection moves, in double (p_) or, for a
+  // single-precision sweep, in float (q_); the other one is empty.
+  PaddedPositions p_;
+  PaddedRows<float> q_;
+  Eigen::VectorXd w_;
+  ConstraintSet c_;
+  Settings s_;
+  InstructionSet isa_;
+  std::vector<int> domain_;  // each vertex's sweep domain (Settings::domains; all 0 for one)
+  /// Each vertex's row in p_ and q_: domain by domain, so that the domains a thread
+  /// sweeps are contiguous in memory (interleaved rows put cache lines under two
+  /// threads' writes: measured slower on two threads than on one). Empty: row = vertex.
+  std::vector<int> row_of_;
+  ConstraintBatches batches_;  // c_ ordered and packed for the sweep, on rows of p_
+  double k_stretch_, k_bend_;
+  std::unique_ptr<ThreadTeam> team_;  // null with one thread
+  double projection_ms_ = 0, integration_ms_ = 0;
+  // XPBD (empty for PBD): compliances, alpha / h^2 (h the sub-step), and the multipliers, per constraint row.
+  Eigen::VectorXd stretch_alpha_, bending_alpha_, stretch_alpha_tilde_, bending_alpha_tilde_;
+  Eigen::VectorXd stretch_lambda_, bending_lambda_;
+  double thickness_ = 0;
+  /// c_ and w_ on rows of p_ (row_of_), ordered and packed in `width` lanes.
+  ConstraintBatches pack_batches(int width) const;
+  /// The row of p_ holding vertex v.
+  Eigen::Index row(Eigen::Index v) const { return row_of_.empty() ? v : row_of_[static_cast<size_t>(v)]; }
+  /// One time step of h (eqs. 31-35), timed into projection_ms_ and integration_ms_.
+  void substep(double h, const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
+               const Points& pinned_positions);
+  /// body(begin, end) on vertex ranges covering [0, #V), one per team member (in
+  /// parallel), or once over all of them without a team. The per-vertex work must
+  /// not depend on the range, so that the result does not depend on the thread count.
+  template <class RangeBody>
+  void for_vertex_ranges(RangeBody&& body);
+  /// One sweep with the reference projections, in the batches' order.
+  void reference_sweep(bool reverse);
+  /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
+  /// stretch(i, p_a, w_a, p_b, w_b, corr_a, corr_b) for each stretch constraint i,
+  /// then bending(i, p1, w1, ..., p4, w4, corr[4]) for each bending constraint.
+  template <class ProjectStretch, class ProjectBending>
+  void scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending);
+  /// One XPBD sweep (reference projections), in the batches' order.
+  void xpbd_sweep(bool reverse);
+};
+
+}  // namespace tb::pbd
+
+namespace tb::pbd {
+
+/// Inverse masses from lumped_surface_masses, 0 where `fixed` is set.
+///   fixed  #V flags
+Eigen::VectorXd inverse_masses(const SurfaceMesh& surface, double density, const std::vector<char>& fixed);
+
+}  // namespace tb::pbd

@@ -1,0 +1,223 @@
+// The distributed fine FEM (issue 13), run by CTest with one rank and with two
+// (mpirun -np 2): np = 2 against np = 1 (MPI_COMM_SELF inside the same run) and
+// against the serial direct solver, P2 against an exact quadratic solution, and
+// the neo-Hookean law against the linear one at small load. Every check is made
+// on values that are the same on every rank, so the ranks stay in step.
+#include "distributed_elasticity.h"
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "cube_generator.h"
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "load_mapping.h"
+#include "mesh_checks.h"
+#include "model.h"
+#include "mpi_session.h"
+#include "surface_load.h"
+#include "test_support.h"
+#include "tetgen_driver.h"
+
+namespace tb {
+namespace {
+
+/// A small version of the paper's cube: side 0.1 m, 6 x 6 x 6 surface grid, a few
+/// thousand dofs: more than the AMG's coarsest level takes (2000 rows, solved
+/// directly), so CG and the multigrid hierarchy both work.
+struct SmallCube {
+  SurfaceMesh surface;
+  TetMesh volume;
+  std::vector<int> surface_to_volume;
+};
+
+const SmallCube& small_cube() {
+  static const SmallCube cube = [] {
+    SmallCube c;
+    c.surface = make_cube_surface({0.1, 0.1, 6, 6, 6});
+    check_and_orient_surface("small cube", c.surface);
+    TetgenOptions o;
+    o.max_volume = 5e-7;
+    c.volume = tetrahedralize_surface(c.surface, o, "small cube");
+    c.surface_to_volume.resize(static_cast<size_t>(c.surface.V.rows()));
+    std::iota(c.surface_to_volume.begin(), c.surface_to_volume.end(), 0);
+    return c;
+  }();
+  return cube;
+}
+
+bool on_bottom(const Eigen::Vector3d& x) { return x.z() <= 1e-9; }
+
+std::vector<int> all_nodes(const TetMesh& m) {
+  std::vector<int> n(static_cast<size_t>(m.V.rows()));
+  std::iota(n.begin(), n.end(), 0);
+  return n;
+}
+
+double relative_difference(const Points& a, const Points& b) { return (a - b).norm() / b.norm(); }
+
+/// 2-norm condition number of K restricted to the unclamped dofs: the largest
+/// eigenvalue by power iteration, the smallest by inverse iteration.
+double free_stiffness_condition(const Eigen::SparseMatrix<double>& K, const std::vector<char>& clamped) {
+  std::vector<int> index(static_cast<size_t>(K.rows()), -1);
+  int n = 0;
+  for (Eigen::Index d = 0; d < K.rows(); ++d)
+    if (!clamped[static_cast<size_t>(d / 3)]) index[static_cast<size_t>(d)] = n++;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+      if (index[static_cast<size_t>(it.row())] >= 0 && index[static_cast<size_t>(it.col())] >= 0)
+        t.emplace_back(index[static_cast<size_t>(it.row())], index[static_cast<size_t>(it.col())], it.value());
+  Eigen::SparseMatrix<double> Kf(n, n);
+  Kf.setFromTriplets(t.begin(), t.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kf);
+  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 1, 2), y = x;
+  double largest = 0, smallest_inverse = 0;
+  for (int it = 0; it < 500; ++it) {
+    x = (Kf * x).normalized();
+    y = ldlt.solve(y).normalized();
+  }
+  largest = x.dot(Kf * x);
+  smallest_inverse = y.dot(ldlt.solve(y));
+  return largest * smallest_inverse;
+}
+
+TEST(DistributedElasticity, TwoRanksEqualOneRankAndTheSerialDirectSolve) {
+  const SmallCube& c = small_cube();
+  DistributedSettings s;
+  s.cg_tolerance = 1e-13;
+  DistributedElasticity world(c.volume, Material{}, on_bottom, s, MPI_COMM_WORLD);
+  DistributedElasticity self(c.volume, Material{}, on_bottom, s, MPI_COMM_SELF);
+  const std::vector<LoadPoint> load = point_load_points(c.volume, {0, 0, 0.1});
+  world.solve(load, {0, 0, 1});
+  self.solve(load, {0, 0, 1});
+  const Points u_world = world.node_displacements(all_nodes(c.volume));
+  const Points u_self = self.node_displacements(all_nodes(c.volume));
+  EXPECT_LT(relative_difference(u_world, u_self), 1e-8) << "np = " << MpiSession::size() << " against np = 1";
+
+  // The serial real-time path on the same mesh (CHOLMOD, to round-off). CG stops
+  // at |r| <= tol |f|, so |u - u_direct| / |u_direct| <= cond(K_free) tol.
+  const std::vector<char> clamped = SupportBox{{-1, -1, -1}, {1, 1, 1e-9}}.select(c.volume.V);
+  const ElasticBody body(c.volume, Material{}, clamped);
+  const auto direct = make_direct_solve(body);
+  Eigen::VectorXd u;
+  direct->solve(BodyLoads(body, {containing_tet(c.volume, {0, 0, 0.1}, "test mesh")}), {Eigen::Vector3d(0, 0, 1)}, u);
+  const Points u_direct = Eigen::Map<const Points>(u.data(), c.volume.V.rows(), 3);
+  const double bound = free_stiffness_condition(body.full_stiffness(), clamped) * s.cg_tolerance;
+  const double error = relative_difference(u_world, u_direct);
+  EXPECT_LT(error, bound);
+  EXPECT_GT(world.stats().cg_iterations, 1) << "the AMG is more than one direct coarse solve";
+  std::ostringstream os;
+  os << error << " (bound " << bound << ", " << world.stats().cg_iterations << " CG iterations)";
+  RecordProperty("relative_difference_to_direct", os.str());
+}
+
+TEST(DistributedElasticity, TwoRanksEqualOneRankWithP2AndADiscLoad) {
+  const SmallCube& c = small_cube();
+  DistributedSettings s;
+  s.degree = 2;
+  s.cg_tolerance = 1e-13;
+  DistributedElasticity world(c.volume, Material{}, on_bottom, s, MPI_COMM_WORLD);
+  DistributedElasticity self(c.volume, Material{}, on_bottom, s, MPI_COMM_SELF);
+  const std::vector<LoadPoint> disc = disc_load_points(c.volume, c.surface, c.surface_to_volume, {0, 0, 0.1}, 0.02);
+  world.solve(disc, {0, 0, -1});
+  self.solve(disc, {0, 0, -1});
+  EXPECT_GT(world.stats().dofs, 3 * c.volume.V.rows()) << "P2 has edge dofs";
+  EXPECT_LT(
+      relative_difference(world.node_displacements(c.surface_to_volume), self.node_displacements(c.surface_to_volume)),
+      1e-8);
+}
+
+/// u = (x^2 - y^2 + yz, -2xy + xz, xy): quadratic, divergence-free and harmonic,
+/// so div sigma(u) = (lambda + mu) grad div u + mu laplace u = 0: no body force.
+Eigen::Vector3d quadratic_field(const Eigen::Vector3d& x) {
+  return {x.x() * x.x() - x.y() * x.y() + x.y() * x.z(), -2 * x.x() * x.y() + x.x() * x.z(), x.x() * x.y()};
+}
+
+TEST(DistributedElasticity, P2ReproducesAQuadraticSolutionExactlyAndP1DoesNot) {
+  const TetMesh m = testing::box_mesh(1, 1, 1, 2, 2, 2, 0.02);
+  auto on_boundary = [](const Eigen::Vector3d& x) {
+    return (x.array() < 1e-12).any() || (x.array() > 1 - 1e-12).any();
+  };
+  Points exact(m.V.rows(), 3);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) exact.row(v) = quadratic_field(m.V.row(v).transpose()).transpose();
+  double error[3] = {0, 0, 0};
+  for (int degree = 1; degree <= 2; ++degree) {
+    DistributedSettings s;
+    s.degree = degree;
+    s.cg_tolerance = 1e-13;
+    DistributedElasticity fem(m, Material{1000, 0.3, 1000}, on_boundary, s, MPI_COMM_WORLD, quadratic_field);
+    fem.solve({}, Eigen::Vector3d::Zero());
+    error[degree] = relative_difference(fem.node_displacements(all_nodes(m)), exact);
+  }
+  // P2: exact up to the CG tolerance (1e-13 relative residual); P1: an O(h^2) error.
+  EXPECT_LT(error[2], 1e-9);
+  EXPECT_GT(error[1], 1e-4);
+  RecordProperty("p1_relative_error", std::to_string(error[1]));
+  RecordProperty("p2_relative_error", std::to_string(error[2]));
+}
+
+TEST(DistributedElasticity, NeoHookeanReducesToLinearAtSmallLoad) {
+  const SmallCube& c = small_cube();
+  const std::vector<LoadPoint> disc = disc_load_points(c.volume, c.surface, c.surface_to_volume, {0, 0, 0.1}, 0.02);
+  DistributedSettings linear_settings, neo_settings;
+  linear_settings.cg_tolerance = neo_settings.cg_tolerance = 1e-12;
+  neo_settings.law = MaterialLaw::NeoHookean;
+  neo_settings.newton_tolerance = 1e-11;
+  DistributedElasticity linear(c.volume, Material{}, on_bottom, linear_settings, MPI_COMM_WORLD);
+  double difference[2] = {0, 0};
+  const double forces[2] = {1e-3, 1e-2};
+  for (int k = 0; k < 2; ++k) {
+    DistributedElasticity neo(c.volume, Material{}, on_bottom, neo_settings, MPI_COMM_WORLD);
+    linear.solve(disc, {0, 0, forces[k]});
+    neo.solve(disc, {0, 0, forces[k]});
+    EXPECT_GT(neo.stats().newton_iterations, 0);
+    difference[k] = relative_difference(neo.node_displacements(c.surface_to_volume),
+                                        linear.node_displacements(c.surface_to_volume));
+  }
+  // The laws differ at first order in the strain, so the difference is small
+  // and grows in proportion to the load (10x the load: 10x the difference).
+  EXPECT_LT(difference[0], 1e-2);
+  EXPECT_GT(difference[0], 1e-6) << "the laws must differ at finite strain";
+  EXPECT_NEAR(difference[1] / difference[0], 10, 2);
+  RecordProperty("relative_difference_1mN", std::to_string(difference[0]));
+  RecordProperty("relative_difference_10mN", std::to_string(difference[1]));
+}
+
+TEST(DistributedElasticity, BadSettingsAreErrors) {
+  const SmallCube& c = small_cube();
+  DistributedSettings s;
+  s.degree = 3;
+  EXPECT_THROW(DistributedElasticity(c.volume, Material{}, on_bottom, s, MPI_COMM_WORLD), std::invalid_argument);
+  s.degree = 1;
+  s.law = MaterialLaw::NeoHookean;
+  EXPECT_THROW(DistributedElasticity(c.volume, Material{}, on_bottom, s, MPI_COMM_WORLD, quadratic_field),
+               std::invalid_argument);
+  s.law = MaterialLaw::Linear;
+  try {
+    DistributedElasticity(
+        c.volume, Material{}, [](const Eigen::Vector3d&) { return false; }, s, MPI_COMM_WORLD);
+    ADD_FAILURE() << "an empty support must be an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("support selects no dof"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tb
+
+int main(int argc, char** argv) {
+  tb::MpiSession mpi(argc, argv);
+  tb::use_one_thread();
+  ::testing::InitGoogleTest(&argc, argv);
+  if (tb::MpiSession::rank() != 0) {  // one rank reports
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  return RUN_ALL_TESTS();
+}
