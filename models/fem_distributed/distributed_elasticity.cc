@@ -137,7 +137,8 @@ double lap(std::chrono::steady_clock::time_point& start) {
 DistributedElasticity::Impl::Impl(MPI_Comm c, const DistributedSettings& s, const Material& m)
     : comm(c),
       settings(s),
-      lame(m.youngs_modulus, m.poisson_ratio),
+      lame(lame_parameters(m)),
+      law(&find_material_law(s.law)),
       tria(c),
       fe(FE_SimplexP<3>(static_cast<unsigned>(s.degree)), 3),
       mapping(FE_SimplexP<3>(1)),
@@ -149,7 +150,7 @@ DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material
   if (settings.degree != 1 && settings.degree != 2)
     throw std::invalid_argument("distributed FEM: degree " + std::to_string(settings.degree) +
                                 " is not supported (1: P1, 2: P2)");
-  if (prescribed && settings.law != MaterialLaw::Linear)
+  if (prescribed && settings.law != "linear")
     throw std::invalid_argument("distributed FEM: prescribed displacements need the linear law");
   impl_ = std::make_unique<Impl>(comm, settings, material);
   Impl& d = *impl_;
@@ -231,7 +232,7 @@ DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material
   d.u.reinit(d.owned, comm);
   d.lift.reinit(d.owned, comm);
   d.f_previous.reinit(d.owned, comm);
-  if (settings.law == MaterialLaw::Linear) {
+  if (settings.law == "linear") {
     FEValues<3> fe_values(d.mapping, d.fe, d.quadrature, update_gradients | update_JxW_values);
     FullMatrix<double> Ke;
     dealii::Vector<double> no_force(n);
@@ -239,7 +240,7 @@ DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material
     for (const auto& cell : d.dof_handler.active_cell_iterators()) {
       if (!cell->is_locally_owned()) continue;
       fe_values.reinit(cell);
-      linear_elastic_cell_matrix(fe_values, d.component, d.lame, Ke, grad);  // eq. (9)
+      linear_elastic_cell_matrix(fe_values, d.component, LinearElastic(d.lame), Ke, grad);  // eq. (9)
       cell->get_dof_indices(ids);
       d.constraints.distribute_local_to_global(Ke, no_force, ids, d.K, d.lift);  // lift: -K g of prescribed g
     }
@@ -351,10 +352,10 @@ void DistributedElasticity::Impl::solve_linear(const std::vector<LoadPoint>& loa
 }
 
 void DistributedElasticity::solve(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
-  if (impl_->settings.law == MaterialLaw::Linear)
+  if (impl_->settings.law == "linear")
     impl_->solve_linear(load, force);
   else
-    impl_->solve_neo_hookean(load, force);
+    impl_->solve_nonlinear(load, force);
 }
 
 Points DistributedElasticity::node_displacements(const std::vector<int>& nodes) const {

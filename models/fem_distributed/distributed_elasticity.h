@@ -17,19 +17,21 @@
 #include <memory>
 #include <vector>
 
+#include <string>
+
 #include "material.h"
 #include "mesh_types.h"
 #include "surface_load.h"
 
 namespace tb {
 
-enum class MaterialLaw { Linear, NeoHookean };
-
 struct DistributedSettings {
   int degree = 1;  ///< polynomial degree of FE_SimplexP: 1 or 2
-  MaterialLaw law = MaterialLaw::Linear;
+  /// A law of material_laws() (numerics/materials): "linear" is one linear solve per
+  /// frame; any other, Newton with load increments (nonlinear_solve.cc).
+  std::string law = "linear";
   double cg_tolerance = 1e-10;  ///< relative residual of each linear solve
-  // Neo-Hookean only:
+  // Nonlinear laws only:
   int load_steps = 1;               ///< load increments per solve (halved on failure)
   double newton_tolerance = 1e-9;   ///< converged when |R| <= tolerance |f_ext| (free dofs)
   int max_newton_iterations = 30;   ///< per increment, before it is halved

@@ -21,6 +21,7 @@
 
 #include "distributed_elasticity.h"
 #include "elasticity_cell.h"
+#include "material_laws.h"
 
 namespace tb {
 
@@ -32,7 +33,8 @@ struct DistributedElasticity::Impl {
 
   MPI_Comm comm;
   DistributedSettings settings;
-  Lame lame;
+  LameParameters lame;
+  const MaterialLawInfo* law;  ///< settings.law, from the table
   const TetMesh* mesh = nullptr;  ///< the caller's; used in the constructor only
   dealii::parallel::fullydistributed::Triangulation<3> tria;
   dealii::FESystem<3> fe;
@@ -64,7 +66,7 @@ struct DistributedElasticity::Impl {
   /// CG on K x = b from x; returns iterations. Throws std::runtime_error on failure.
   int cg(const Vector& b, Vector& x, double tolerance);
   void solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);
-  void solve_neo_hookean(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);  // neo_hookean_solve.cc
+  void solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);  // nonlinear_solve.cc
 };
 
 }  // namespace tb

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "distributed_elasticity.h"
+#include "material_laws.h"
 #include "surface_load.h"
 
 namespace tb {
@@ -22,7 +23,7 @@ class FemDistributedModel : public Model {
     p.load_case.support.clamp(h.fine_volume.V, "fine volume");  // the same support check as every model
     DistributedSettings s;
     s.degree = p.parameters.integer("degree");
-    s.law = p.parameters.choice("material_law") == "neo_hookean" ? MaterialLaw::NeoHookean : MaterialLaw::Linear;
+    s.law = p.parameters.choice("material_law");
     s.cg_tolerance = p.parameters.number("cg_tolerance");
     s.load_steps = p.parameters.integer("load_steps");
     const SupportBox support = p.load_case.support;
@@ -84,13 +85,20 @@ ModelInfo fem_distributed_model_info() {
   m.name = "fem_distributed";
   m.description =
       "FEM on the fine tet volume over MPI ranks (deal.II, Trilinos CG with ML AMG): the reference solve at any "
-      "size, P1/P2, linear or neo-Hookean, one point force or disc traction; mpirun -np N";
+      "size, P1/P2, any material law of the table (linear, neo-Hookean ...), one point force or disc traction; "
+      "mpirun -np N";
+  std::vector<std::string> laws;
+  std::string described = "the material law (numerics/materials), each with the Lame parameters of the scenario's "
+                          "E and nu; every law but linear is solved by Newton with load increments. ";
+  for (const MaterialLawInfo& law : material_laws()) {
+    laws.push_back(law.name);
+    described += law.name + ": " + law.description + "; ";
+  }
   m.parameters = {
       P::whole_number("degree", 1, 1, 2, "polynomial degree of the elements, FE_SimplexP"),
-      P::choice("material_law", {"linear", "neo_hookean"}, "linear",
-                "linear: small-strain elasticity (eq. 9); neo_hookean: compressible neo-Hookean with the same "
-                "lambda, mu, Newton with load increments"),
-      P::whole_number("load_steps", 1, 1, 1000, "neo_hookean: load increments per frame (halved when Newton fails)"),
+      P::choice("material_law", laws, "linear", described),
+      P::whole_number("load_steps", 1, 1, 1000,
+                      "nonlinear laws: load increments per frame (halved when Newton fails)"),
       P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")};
   m.create = [] { return std::make_unique<FemDistributedModel>(); };
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction};

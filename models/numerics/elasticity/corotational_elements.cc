@@ -71,7 +71,7 @@ CorotationalElements::CorotationalElements(const TetMesh& mesh, double youngs_mo
     : V_(mesh.V),
       T_(mesh.T),
       e_(p1_elements(mesh)),
-      lame_(youngs_modulus, poisson_ratio),
+      lame_(lame_parameters(youngs_modulus, poisson_ratio)),
       A_(Eigen::MatrixXd::Zero(mesh.T.rows(), 9)),
       h_(e_.gradients),
       c_(Eigen::VectorXd::Zero(3 * mesh.V.rows())) {}

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "mesh_types.h"
+#include "lame_parameters.h"
 #include "stiffness_assembly.h"
 
 namespace tb {
@@ -82,7 +83,7 @@ class CorotationalElements {
   Points V_;      ///< #V by 3 rest positions X
   Tetrahedra T_;  ///< #T by 4
   P1Elements e_;  ///< g and V per tet
-  Lame lame_;
+  LameParameters lame_;
   Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> A_;   ///< #T by 9: R_e - I row-major
   Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor> h_;  ///< #T by 12: R_e g_k, k = 0..3
   Eigen::VectorXd c_;

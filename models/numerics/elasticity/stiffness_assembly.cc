@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "linear_elastic.h"
+
 namespace tb {
 namespace {
 
@@ -114,22 +116,16 @@ P1Elements p1_elements(const TetMesh& mesh) {
 
 Eigen::SparseMatrix<double> assemble_stiffness(const TetMesh& mesh, double E, double nu) {
   const P1Elements e = p1_elements(mesh);
-  const Lame l(E, nu);
+  const LinearElastic law(lame_parameters(E, nu));
   BlockPattern K(mesh);
   for (Eigen::Index t = 0; t < mesh.T.rows(); ++t)
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) {
         const double* ga = &e.gradients(t, 3 * a);
         const double* gb = &e.gradients(t, 3 * b);
-        const double dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
         for (int ci = 0; ci < 3; ++ci)
-          for (int cj = 0; cj < 3; ++cj) {
-            // (B^T D B)_ab for isotropic D, as in deal.II step-8:
-            // lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I, times the volume.
-            double k = ga[ci] * gb[cj] * l.lambda + ga[cj] * gb[ci] * l.mu;
-            if (ci == cj) k += dot * l.mu;
-            K.add(mesh.T(t, a), ci, mesh.T(t, b), cj, k * e.volumes(t));
-          }
+          for (int cj = 0; cj < 3; ++cj)  // (B^T D B)_ab, the linear law's, times the volume
+            K.add(mesh.T(t, a), ci, mesh.T(t, b), cj, law.stiffness_entry(ga, gb, ci, cj) * e.volumes(t));
       }
   return K.matrix();
 }

@@ -1,6 +1,7 @@
-// Global stiffness matrix K of linear elasticity on P1 tetrahedra (paper eqs. 1-11),
-// integrated with deal.II. The only file that includes deal.II, so the rest of the
-// project compiles quickly and sees plain Eigen.
+// Global stiffness matrix K of linear elasticity on P1 tetrahedra (paper eqs. 1-11):
+// deal.II's P1 shape gradients, the element matrices of the linear law
+// (numerics/materials/linear_elastic.h). One of the few translation units that
+// include deal.II (docs/architecture.md), so the rest sees plain Eigen.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -22,13 +23,6 @@ struct P1Elements {
 };
 ///   mesh  positively oriented tets
 P1Elements p1_elements(const TetMesh& mesh);
-
-/// Lame parameters of the isotropic elasticity matrix D (eq. 9), for every
-/// assembly (serial, corotational, distributed: elasticity_cell.h).
-struct Lame {
-  double lambda = 0, mu = 0;
-  Lame(double E, double nu) : lambda(E * nu / ((1 + nu) * (1 - 2 * nu))), mu(E / (2 * (1 + nu))) {}
-};
 
 /// K (eq. 11), assembled from the element matrices K^e = int B^T D B dx (eq. 9)
 /// of p1_elements(mesh).

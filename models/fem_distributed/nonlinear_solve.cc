@@ -1,6 +1,6 @@
-// The large-deformation reference (issue 13): a compressible neo-Hookean solid
-// (elasticity_cell.h: W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2, the same
-// lambda and mu as the linear law) under dead loads, solved by Newton's method
+// The large-deformation reference: a hyperelastic solid of any law of the table
+// (numerics/materials: neo_hookean, neo_hookean_isochoric, stable_neo_hookean, with
+// the Lame parameters of the scenario's E and nu) under dead loads, solved by Newton's method
 // with the consistent tangent, load increments from the previous solve's load to
 // this one, a backtracking line search on the residual, and increments halved
 // when Newton fails (J <= 0 somewhere, no residual decrease, or too many
@@ -41,7 +41,7 @@ bool assemble(DistributedElasticity::Impl& d, const DistributedElasticity::Impl:
     if (!cell->is_locally_owned()) continue;
     fe_values.reinit(cell);
     cell->get_dof_values(u_ghosted, u_cell);
-    if (!neo_hookean_cell(fe_values, d.component, u_cell, d.lame, &Ke, Re, grad)) {
+    if (!hyperelastic_cell(fe_values, d.component, u_cell, *d.law, d.lame, &Ke, Re, grad)) {
       valid = 0;
       break;
     }
@@ -56,7 +56,7 @@ bool assemble(DistributedElasticity::Impl& d, const DistributedElasticity::Impl:
 
 }  // namespace
 
-void DistributedElasticity::Impl::solve_neo_hookean(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
+void DistributedElasticity::Impl::solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
   const auto start = std::chrono::steady_clock::now();
   Vector f_new(owned, comm);
   add_load(load, force, f_new);
@@ -118,7 +118,7 @@ void DistributedElasticity::Impl::solve_neo_hookean(const std::vector<LoadPoint>
       increment /= 2;
       if (++stats.increment_halvings > settings.max_increment_halvings) {
         std::ostringstream msg;
-        msg << "neo-Hookean: Newton failed at load fraction " << target << " after " << settings.max_increment_halvings
+        msg << settings.law << ": Newton failed at load fraction " << target << " after " << settings.max_increment_halvings
             << " halvings of the load increment (last increment " << 2 * increment
             << "); a point load's singularity makes this likely on fine meshes: use a disc load";
         throw std::runtime_error(msg.str());

@@ -1,0 +1,64 @@
+// Compressible neo-Hookean solid (Bonet and Wood 2008, eq. 6.28), the law the
+// distributed large-deformation reference used first (fem_distributed/):
+//   W(F) = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2,   I1 = tr(F^T F), J = det F,
+//   P(F) = mu F + (lambda ln J - mu) F^-T
+//        = mu F + (lambda ln J - mu) / J cof F                 (cof F = dJ/dF = J F^-T),
+//   dP/dF = mu I9 + (lambda (1 - ln J) + mu) / J^2 g g^T + (lambda ln J - mu) / J H_J,
+// with g = vec(cof F) and H_J = d^2 J/dF^2 (deformation_gradient.h). This is the
+// tangent the distributed solver wrote by hand before it used this law, as
+//   dP[dF] = mu dF + (mu - lambda ln J) F^-T dF^T F^-T + lambda (F^-T : dF) F^-T.
+// At F = I: P = 0 and dP[H] = mu (H + H^T) + lambda tr(H) I, linear elasticity
+// with the same lambda and mu.
+//
+// Undefined for J <= 0 (ln J): energy() returns +infinity there, so that a line
+// search or an energy-based step rejects an inverted state; first_piola() and
+// tangent() throw std::domain_error (deformation_gradient.h's throw_inverted),
+// never a NaN. A NaN in F counts as J <= 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+
+#include "deformation_gradient.h"
+#include "lame_parameters.h"
+
+namespace tb {
+
+/// The coupled compressible neo-Hookean law; its parameters are the Lame parameters.
+struct NeoHookean {
+  double lambda = 0;  ///< Pa
+  double mu = 0;      ///< Pa
+
+  explicit NeoHookean(const LameParameters& lame) : lambda(lame.lambda), mu(lame.mu) {}
+
+  /// W(F), J/m^3 per reference volume; +infinity if det F <= 0. F: 3x3.
+  double energy(const Eigen::Matrix3d& F) const {
+    const double J = F.determinant();
+    if (!(J > 0)) return std::numeric_limits<double>::infinity();
+    const double ln_J = std::log(J);
+    return 0.5 * mu * (F.squaredNorm() - 3) - mu * ln_J + 0.5 * lambda * ln_J * ln_J;
+  }
+
+  /// P(F) (3x3, Pa). Throws std::domain_error if det F <= 0.
+  Eigen::Matrix3d first_piola(const Eigen::Matrix3d& F) const {
+    const double J = F.determinant();
+    if (!(J > 0)) throw_inverted("neo_hookean", "first Piola-Kirchhoff stress", J);
+    return mu * F + ((lambda * std::log(J) - mu) / J) * cofactor(F);
+  }
+
+  /// dP/dF (9x9, Pa; deformation_gradient.h's index convention). Throws
+  /// std::domain_error if det F <= 0.
+  Matrix9d tangent(const Eigen::Matrix3d& F) const {
+    const double J = F.determinant();
+    if (!(J > 0)) throw_inverted("neo_hookean", "tangent", J);
+    const double ln_J = std::log(J);
+    const Vector9d g = flatten(cofactor(F));
+    Matrix9d T = ((lambda * (1 - ln_J) + mu) / (J * J)) * (g * g.transpose());
+    T += ((lambda * ln_J - mu) / J) * determinant_hessian(F);
+    T.diagonal().array() += mu;
+    return T;
+  }
+};
+
+}  // namespace tb
