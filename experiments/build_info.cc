@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "blas_kernels.h"
 #include "compile_flags.h"
 
 namespace tb {
@@ -31,6 +32,19 @@ nlohmann::json build_and_machine_info() {
       j["cpu_model"] = line.substr(line.find(':') + 2);
       break;
     }
+  // The CPU's family and model (two VMs of the same kind report the same model
+  // name on different CPUs) and the BLAS kernels chosen for it (blas_kernels.h).
+  cpu.clear();
+  cpu.seekg(0);
+  for (const char* key : {"cpu family", "model"})
+    while (std::getline(cpu, line))
+      if (line.rfind(key, 0) == 0 && line.find(':') != std::string::npos &&
+          line.substr(0, line.find(':')).find_last_not_of(" \t") + 1 == std::string(key).size()) {
+        j[std::string(key) == "model" ? "cpu_model_number" : "cpu_family"] = std::stoi(line.substr(line.find(':') + 2));
+        break;
+      }
+  j["blas_core"] = blas_core_name();
+  j["blas_core_pinned"] = std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "";
   j["hardware_threads"] = std::thread::hardware_concurrency();
   j["blas_threads"] = 1;                             // tissuebench's main pins OpenBLAS and OpenMP to one thread
   j["peak_memory_mib"] = process_peak_memory_mib();  // of the whole process so far

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "blas_kernels.h"
 #include "build_info.h"
 #include "elastic_body.h"
 #include "mesh_recipe.h"
@@ -38,6 +39,7 @@ int command_models() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tb::pin_blas_kernels(argv);      // the same FEM bits on every AVX2 CPU (blas_kernels.h)
   tb::MpiSession mpi(argc, argv);  // once per program; a singleton without mpirun
   const bool root = tb::MpiSession::rank() == 0;
   CLI::App app{"tissuebench: soft-tissue deformation models (fine FEM, PBD, hybrid) on shared scenarios"};

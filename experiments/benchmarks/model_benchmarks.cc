@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 
+#include "blas_kernels.h"
 #include "build_info.h"
 #include "cube_generator.h"
 #include "elastic_body.h"
@@ -406,13 +407,14 @@ BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime
 }  // namespace tb
 
 int main(int argc, char** argv) {
+  tb::pin_blas_kernels(argv);  // the runner's BLAS kernels (blas_kernels.h)
   tb::use_one_thread();  // single-threaded figures, as the runner's
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   // The machine and build of tissuebench's code, as in every run.json (the
   // context's library_build_type is Google Benchmark's own library).
   const nlohmann::json build = tb::build_and_machine_info();
-  for (const char* key : {"cpu_model", "build_type", "compiler", "git_commit"})
+  for (const char* key : {"cpu_model", "build_type", "compiler", "git_commit", "blas_core"})
     benchmark::AddCustomContext(std::string("tissuebench_") + key, build.value(key, std::string("?")));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
