@@ -55,6 +55,18 @@ nlohmann::json Scenario::to_json() const {
   return j;
 }
 
+nlohmann::json Scenario::to_json_with_models() const {
+  nlohmann::json j = to_json();
+  j["models"] = nlohmann::json::array();
+  for (const ModelRun& run : models)
+    j["models"].push_back({{"case", run.case_name},
+                           {"model", run.model},
+                           {"parameters", run.parameters.to_json()},
+                           {"parameters_given", run.parameters_given}});
+  if (!sweep_base.empty()) j["sweep"] = {{"base", sweep_base}, {"values", sweep_values}, {"keys", sweep_keys}};
+  return j;
+}
+
 void resolve_on_mesh(Scenario& s, const SurfaceMesh& surface) {
   const Points& V = surface.V;
   if (V.rows() == 0) throw std::invalid_argument(s.name + ": the fine surface has no vertices");

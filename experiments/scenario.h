@@ -63,6 +63,9 @@ struct Scenario {
   /// Every value as resolved, defaults included (run.json "scenario_resolved");
   /// the model list is not included (each run.json holds its own model).
   nlohmann::json to_json() const;
+  /// to_json() and the model list: each case's name, model, resolved and given
+  /// parameters (`tissuebench resolve`).
+  nlohmann::json to_json_with_models() const;
 };
 
 /// Fills what a scenario states relative to its mesh: the support box of

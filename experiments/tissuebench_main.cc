@@ -92,6 +92,12 @@ int main(int argc, char** argv) {
   mesh->add_option("--refine-levels", refine_levels, "split the surface's triangles in four this many times");
   mesh->add_option("--out", mesh_out, "output folder")->required();
 
+  auto* resolve = app.add_subcommand(
+      "resolve",
+      "Print a scenario or experiment file as the runner reads it: every scenario with every value resolved");
+  std::string resolve_file;
+  resolve->add_option("file", resolve_file, "scenario or experiment JSON")->required();
+
   app.add_subcommand("models", "List the registered models and their parameters");
   app.add_subcommand("build-info", "Print the build (commit, compiler, flags of each library) and machine as JSON");
 
@@ -102,6 +108,15 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("build-info")) {
       if (!root) return 0;
       std::cout << tb::build_and_machine_info().dump(2) << "\n";
+      return 0;
+    }
+    if (resolve->parsed()) {
+      if (!root) return 0;
+      const tb::Experiment e = tb::load_experiment(resolve_file);
+      nlohmann::json j = e.to_json();
+      j["scenarios_resolved"] = nlohmann::json::array();
+      for (const tb::Scenario& s : e.scenarios) j["scenarios_resolved"].push_back(s.to_json_with_models());
+      std::cout << j.dump(2) << "\n";
       return 0;
     }
     if (run->parsed()) {
