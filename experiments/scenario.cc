@@ -219,6 +219,33 @@ void combine_models(Document& doc, const nlohmann::json& experiment_models, cons
     doc.origins->record(json_pointer_child("/models", std::to_string(i)), combined[i], from[i]);
 }
 
+/// The origins of a sweep point (the base document with the sweep's values set,
+/// its cases possibly fewer): each case keeps the origin of the base's case of the
+/// same name, and every value the sweep changed is the experiment file's.
+void record_sweep_origins(const Document& base, Document& point, const std::string& experiment_file) {
+  auto record_changes = [&](const nlohmann::json& before, const nlohmann::json& after, const std::string& prefix) {
+    for (const auto& op : nlohmann::json::diff(before, after))
+      if (op.at("op") != "remove")
+        point.origins->record(prefix + op.at("path").get<std::string>(), op.at("value"), experiment_file);
+  };
+  nlohmann::json before = base.json, after = point.json;
+  if (!before.is_object() || !after.is_object()) return;
+  before.erase("models");
+  after.erase("models");
+  record_changes(before, after, "");
+  if (!point.json.contains("models") || !point.json["models"].is_array() || !base.json.contains("models")) return;
+  const nlohmann::json& base_models = base.json["models"];
+  const nlohmann::json& models = point.json["models"];
+  for (size_t i = 0; i < models.size(); ++i)
+    for (size_t k = 0; k < base_models.size(); ++k)
+      if (case_name_of(base_models[k]) == case_name_of(models[i])) {
+        const std::string at = json_pointer_child("/models", std::to_string(i));
+        point.origins->record(at, models[i], base.origins->origin(json_pointer_child("/models", std::to_string(k))));
+        record_changes(base_models[k], models[i], at);
+        break;
+      }
+}
+
 Scenario parse_scenario(const Document& doc, const std::string& file, const DataDir& data) {
   const std::string base = fs::path(file).parent_path().string();
   const std::string where = file_name(file);
@@ -387,10 +414,8 @@ Experiment load_experiment(const std::string& path, const DataDir& data) {
                                         : fs::path(file).stem().string();
       std::vector<nlohmann::json> seen;  // what each point runs: a level equal to another point's runs once
       for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, where)) {
-        // The values the sweep set are the experiment file's.
         Document at_point{std::move(point.scenario), std::make_shared<KeyOrigins>(*doc.origins)};
-        for (const auto& op : nlohmann::json::diff(base, at_point.json))
-          if (op.at("op") != "remove") at_point.origins->record(op.at("path").get<std::string>(), op.at("value"), path);
+        record_sweep_origins(doc, at_point, path);
         Scenario s;
         try {
           s = parse_scenario(at_point, file, data);
