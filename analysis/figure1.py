@@ -1,12 +1,16 @@
 """Figure 1 of the paper: the hybrid mesh construction (paper 1.2) on the cube.
 
 Usage: /usr/bin/python3 analysis/figure1.py [results/paper] [results/figures]
-Reads results/<experiment>/cube-pull/mesh/*.vtu.
+Reads the meshes the runner wrote beside the cube pull's results
+(results/<experiment>/<scenario in role cube_pull>/mesh/*.vtu; committed, the cube
+being the project's own).
 """
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_index  # noqa: E402
+from table_io import ROLES  # noqa: E402
 from vtu_plot import DPI, draw_surface, plt, read_vtu, tet_edges  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -14,7 +18,12 @@ import numpy as np  # noqa: E402
 def make(exp_dir, out):
     """Hybrid mesh construction (paper figure 1): fine surface, fine base mesh,
     selected vertices, coarse mesh, control points; a slice y = 0 of the cube."""
-    mdir = os.path.join(exp_dir, "cube-pull", "mesh")
+    exp = results_index.Experiment(exp_dir)
+    mdir = os.path.join(exp.root, exp.scenario_name(ROLES["cube"]["pull"]), "mesh")
+    for name in ["fine_surface.vtu", "fine_volume.vtu", "coarse_volume.vtu", "control_points.vtu"]:
+        if not os.path.isfile(os.path.join(mdir, name)):
+            raise results_index.ResultsError(f"{mdir}/{name}: missing (the runner writes the meshes beside the "
+                                             "results unless --no-mesh-output)")
     sv, sf, _ = read_vtu(os.path.join(mdir, "fine_surface.vtu"))
     fv, ft, _ = read_vtu(os.path.join(mdir, "fine_volume.vtu"))
     cv, ct, _ = read_vtu(os.path.join(mdir, "coarse_volume.vtu"))
@@ -55,5 +64,5 @@ def make(exp_dir, out):
 if __name__ == "__main__":
     out = sys.argv[2] if len(sys.argv) > 2 else "results/figures"
     os.makedirs(out, exist_ok=True)
-    make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out)
+    results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out), "figure1")
     print("figure 1 written")

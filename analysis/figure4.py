@@ -11,19 +11,20 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import metrics  # noqa: E402
 import numpy as np  # noqa: E402
 import results_index  # noqa: E402
-from table_io import CASES  # noqa: E402
+from table_io import LOAD_CASES, ROLES  # noqa: E402
 from vtu_plot import DPI, draw_surface, plt, read_vtu  # noqa: E402
 
 
 def make(exp_dir, out):
     """Writes figure4_cube_deformation.png and figure4_centre_line.png; returns the cases drawn."""
     exp = results_index.Experiment(exp_dir)
-    cases = exp.case_names([f"cube-{lc}" for lc in CASES])
-    fields = {(lc, c): read_vtu(os.path.join(exp.scenario(f"cube-{lc}")[c]["folder"], "surface.vtu"))
-              for lc in CASES for c in cases}
+    cube = {lc: exp.scenario_name(ROLES["cube"][lc]) for lc in LOAD_CASES}
+    cases = exp.case_names(list(cube.values()))
+    fields = {(lc, c): read_vtu(os.path.join(exp.scenario(cube[lc])[c]["folder"], "surface.vtu"))
+              for lc in LOAD_CASES for c in cases}
     vmax = max(f[2]["displacement_magnitude"].max() for f in fields.values())
     fig = plt.figure(figsize=(4 * len(cases), 8))
-    for i, lc in enumerate(CASES):
+    for i, lc in enumerate(LOAD_CASES):
         for j, case in enumerate(cases):
             ax = fig.add_subplot(2, len(cases), len(cases) * i + j + 1, projection="3d")
             pts, tris, f = fields[lc, case]
@@ -36,10 +37,10 @@ def make(exp_dir, out):
     plt.close(fig)
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    for ax, lc in zip(axes, CASES):
+    for ax, lc in zip(axes, LOAD_CASES):
         for case in cases:
             _, rest, u = metrics.read_displacements(
-                os.path.join(exp.scenario(f"cube-{lc}")[case]["folder"], "top_surface.csv"))
+                os.path.join(exp.scenario(cube[lc])[case]["folder"], "top_surface.csv"))
             line = np.abs(rest[:, 1]) < 1e-9
             order = np.argsort(rest[line, 0])
             ax.plot(rest[line, 0][order] * 1000, u[line, 2][order] * 1000, marker="o", ms=3, label=case)
@@ -57,5 +58,5 @@ def make(exp_dir, out):
 if __name__ == "__main__":
     out = sys.argv[2] if len(sys.argv) > 2 else "results/figures"
     os.makedirs(out, exist_ok=True)
-    make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out)
+    results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out), "figure4")
     print("figure 4 written")

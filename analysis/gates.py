@@ -9,12 +9,14 @@ Usage: /usr/bin/python3 analysis/gates.py RESULTS_DIR [GATES_JSON] [--repeat RES
 Exit status 0 when every gate holds, 1 otherwise (2 for unusable input).
 
 A gate (one JSON object in "gates") is one of
-  {"scenario", "case", "metric", "at_least" | "at_most": number, "source"}
-  {"scenario", "case", "metric", "below_case": other case, "source"}  metric(case) < metric(other)
-  {"scenario", "case", "identical": [file names], "source"}           needs --repeat
-where metric is a key of metrics.compare (corr_uz, corr_mag, rel_l2, max_error,
-load_ratio) against the experiment's reference case, and "source" says where the
-threshold comes from (a measured value at a named commit minus a margin, or a bound).
+  {"role", "case", "metric", "at_least" | "at_most": number, "source"}
+  {"role", "case", "metric", "below_case": other case, "source"}  metric(case) < metric(other)
+  {"role", "case", "identical": [file names], "source"}           needs --repeat
+where role is the scenario's role in the experiment (experiment.json, e.g.
+"cube_pull"), metric a key of metrics.compare (corr_uz, corr_mag, rel_l2,
+max_error, load_ratio) against the experiment's reference case, and "source" says
+where the threshold comes from (a measured value at a named commit minus a margin,
+or a bound).
 """
 import json
 import os
@@ -27,7 +29,7 @@ import results_index  # noqa: E402
 
 def evaluate(exp, gate, repeat_dir=None):
     """(description, measured text, threshold text, passed) of one gate."""
-    scenario, case = gate["scenario"], gate["case"]
+    scenario, case = exp.scenario_name(gate["role"]), gate["case"]
     if "identical" in gate:
         if repeat_dir is None:
             raise ValueError("an 'identical' gate needs --repeat DIR (a second run)")
@@ -81,6 +83,6 @@ if __name__ == "__main__":
     gates_path = args[1] if len(args) > 1 else os.path.join(os.path.dirname(HERE), "experiments", "accuracy_gates.json")
     try:
         sys.exit(0 if check(args[0], gates_path, repeat) else 1)
-    except (OSError, ValueError, KeyError) as e:
+    except (OSError, ValueError, KeyError) as e:  # results_index.ResultsError is a ValueError
         print(f"gates: {e}", file=sys.stderr)
         sys.exit(2)

@@ -1,9 +1,11 @@
 """Against the PositionBasedDynamics library (issue 16): its per-frame time beside tissuebench's pbd model.
 
 Usage: /usr/bin/python3 analysis/pbd_library.py [results/pbd_library] [results]
-Reads what scripts/pbd_library_comparison wrote: results/pbd_library/cube-<size>/<case>/{run,timings}.json
-(tissuebench's pbd cases), library-t<threads>.json (experiments/pbd_library/pbd_library_driver.cpp),
-tissuebench_loaded_vertex.json, machine_load.csv, and results/pbd_library/library_build.json; writes results/tables/pbd_library.{csv,md}: per size and
+Reads the comparison's raw files (docs/pbd_library_comparison.md: how they were measured; the recipe
+that built and ran the library is no longer in the repository): per size, results/pbd_library/<size>/
+<case>/{run,timings}.json (tissuebench's pbd cases), library-t<threads>.json (the library's driver),
+tissuebench_loaded_vertex.json, machine_load.csv, and results/pbd_library/library_build.json; writes
+results/tables/pbd_library.{csv,md}: per size and
 thread count the library's and tissuebench's (double and single precision) median and p95 ms per
 frame after the load ramp and their ratio, then what each did (constraints, iterations, the loaded
 vertex's displacement at the last frame).
@@ -42,7 +44,7 @@ def tissuebench_cases(size_dir):
 
 def vertex_displacement(size_dir, case, vertex):
     """(position, displacement) of a vertex at the last frame of a tissuebench case, from
-    tissuebench_loaded_vertex.json (scripts/pbd_library_comparison extracts it from surface.csv)."""
+    tissuebench_loaded_vertex.json (extracted from surface.csv when the comparison ran)."""
     entry = load_json(os.path.join(size_dir, "tissuebench_loaded_vertex.json"))[case]
     assert entry["vertex"] == vertex, f"{size_dir}: tissuebench_loaded_vertex.json is for vertex {entry['vertex']}"
     return entry["position"], entry["displacement_m"]
@@ -60,8 +62,8 @@ def rows_of(root):
     rows = []
     for size in sorted(os.listdir(root)):
         size_dir = os.path.join(root, size)
-        if not size.startswith("cube-") or not os.path.isdir(size_dir):
-            continue
+        if not os.path.isdir(size_dir):
+            continue  # each size's folder holds its library-t<threads>.json (others are skipped below)
         tb = tissuebench_cases(size_dir)
         load = machine_load(size_dir)
         for threads in (1, 2):
@@ -112,7 +114,7 @@ def rows_of(root):
 def make(root, out_root):
     rows = rows_of(root)
     if not rows:
-        raise SystemExit(f"no library and tissuebench results under {root} (run scripts/pbd_library_comparison)")
+        raise SystemExit(f"no library and tissuebench results under {root} (docs/pbd_library_comparison.md)")
     lib_build = load_json(os.path.join(root, "library_build.json"))
     b = rows[0]["tb_build"]
     f = tables.fmt
@@ -153,8 +155,8 @@ def make(root, out_root):
     md = (
         "# The PositionBasedDynamics library against tissuebench's pbd model (issue 16)\n\n"
         f"Machine: {b.get('cpu_model', '?')}, {b.get('hardware_threads', '?')} hardware threads; **check the "
-        "load-average column**: about 1 is a quiet machine (this script's own process), more means other jobs "
-        "shared the cores and only the ratios are comparable. Produced by `scripts/pbd_library_comparison` (tables by `analysis/pbd_library.py`). "
+        "load-average column**: about 1 is a quiet machine (the measured process itself), more means other jobs "
+        "shared the cores and only the ratios are comparable. Measured as docs/pbd_library_comparison.md describes (tables by `analysis/pbd_library.py`). "
         "Per frame, after the 50-frame load ramp: median and p95 over "
         f"{', '.join(sorted({str(r['timed_frames']) for r in rows}, key=int))} frames. The library "
         f"({lib_build['source'].rstrip('/').split('/')[-1]} {lib_build['version']}, commit "

@@ -6,7 +6,8 @@ Usage: /usr/bin/python3 analysis/reference_convergence.py [results/reference_con
 Reads results/reference_convergence/np<N>/reference_convergence/<scenario>/<case>/
 (run.json, timings.json, top_surface.csv; scripts/reference_convergence writes
 them), results/reference_convergence/failures.txt, and the paper's hybrid and
-PBD runs in results/paper/cube-{pull,push}/. Scenario names say the level, the
+PBD runs of the paper experiment's cube scenarios (roles cube_pull and cube_push in
+results/paper/experiment.json). Scenario names say the level, the
 direction, the load and the force: ref-L<level>-<pull|push>-<point|disc>[-0.1N].
 
 Every refinement level keeps the paper's surface vertices at the same
@@ -234,15 +235,19 @@ def neo_rows(study):
 
 
 def table1_rows(study, paper_dir):
-    """The paper's hybrid and PBD (results/paper/cube-<pull|push>/) against every
-    point-load reference level and order, at the paper's top vertices."""
+    """The paper's hybrid and PBD (the paper experiment's scenarios in roles
+    cube_pull and cube_push) against every point-load reference level and order, at
+    the paper's top vertices. No rows without a paper results folder."""
     rows = []
+    if not os.path.isdir(paper_dir):
+        return rows
+    paper = results_index.Experiment(paper_dir)
     for direction in ("pull", "push"):
+        cases = paper.by_role(tables.ROLES["cube"][direction])
         models = {}
         for model in ("hybrid", "pbd", "fem-direct"):
-            path = os.path.join(paper_dir, f"cube-{direction}", model, "top_surface.csv")
-            if os.path.isfile(path):
-                models[model] = metrics.read_displacements(path)[1:]
+            if model in cases:
+                models[model] = metrics.read_displacements(os.path.join(cases[model]["folder"], "top_surface.csv"))[1:]
         for order, case in ORDERS:
             for lv in levels_of(study, direction, "point", case):
                 s = scenario_name(lv, direction, "point")
@@ -385,5 +390,5 @@ def make(root, out, paper_dir=None):
 if __name__ == "__main__":
     root = sys.argv[1] if len(sys.argv) > 1 else "results/reference_convergence"
     out = sys.argv[2] if len(sys.argv) > 2 else "results"
-    make(root, out)
+    results_index.main(lambda: make(root, out), "reference_convergence")
     print("reference convergence tables and figure written")

@@ -13,6 +13,7 @@ import figure1  # noqa: E402
 import figure4  # noqa: E402
 import figure5  # noqa: E402
 import readme_tables  # noqa: E402
+import results_index  # noqa: E402
 import table1  # noqa: E402
 import table2  # noqa: E402
 import table3  # noqa: E402
@@ -23,13 +24,17 @@ if __name__ == "__main__":
     out = sys.argv[2] if len(sys.argv) > 2 else "results"
     tables, figures = os.path.join(out, "tables"), os.path.join(out, "figures")
     os.makedirs(figures, exist_ok=True)
-    for module in [table1, table2, table3]:
-        module.make(exp_dir, tables)
-    for module in [figure1, figure4, figure5, time_vs_accuracy]:
-        module.make(exp_dir, figures)
-    sweep_dir = os.path.join(os.path.dirname(exp_dir), "coarse_sweep")
-    if os.path.isdir(sweep_dir):
-        coarse_sweep.make(sweep_dir, out)
+
+    def make():
+        for module in [table1, table2, table3]:
+            module.make(exp_dir, tables)
+        for module in [figure1, figure4, figure5, time_vs_accuracy]:
+            module.make(exp_dir, figures)
+        sweep_dir = os.path.join(os.path.dirname(exp_dir), "coarse_sweep")
+        if os.path.isdir(sweep_dir):
+            coarse_sweep.make(sweep_dir, out)
+
+    results_index.main(make, "reproduce")
     readme = os.path.join(os.path.dirname(HERE), "README.md")
     if os.path.abspath(out) == os.path.join(os.path.dirname(HERE), "results"):
         readme_tables.update(tables, readme)  # README shows the committed results

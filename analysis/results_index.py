@@ -1,16 +1,34 @@
 """Finds the raw results of an experiment: results/<experiment>/<scenario>/<case>/.
 
 Everything the analysis knows about an experiment comes from these files, never
-from code: experiment.json (written by the runner: the reference case, and each
-scenario's cases in the order the experiment lists them) and each case's
-run.json (model, its description, the parameters it ran with, the resolved
-scenario) and timings.json. A model added to an experiment therefore appears in
-every table and figure without an edit here.
+from code: experiment.json (written by the runner: the reference case, each
+scenario's role in the experiment, and its cases in the order the experiment runs
+them) and each case's run.json (model, its description, the parameters it ran
+with, the resolved scenario) and timings.json. A model added to an experiment
+therefore appears in every table and figure without an edit here, and a script
+finds the scenarios it needs by role (experiments/paper.json gives "cube_pull",
+"cube_push", "liver_pull", "liver_push"), never by their names.
 """
 import json
 import os
+import sys
 
 import metrics
+
+
+class ResultsError(ValueError):
+    """Results that cannot answer what a script asks: a folder, a role, a scenario's
+    results, a case or the reference is missing. Its message is one line, printed by
+    main() without a traceback."""
+
+
+def main(make, name):
+    """Runs make(); a ResultsError is printed as one line ("<name>: <message>") and exits 2."""
+    try:
+        return make()
+    except ResultsError as e:
+        print(f"{name}: {e}", file=sys.stderr)
+        sys.exit(2)
 
 
 def load_case(folder):
@@ -31,7 +49,7 @@ class Experiment:
 
     def __init__(self, root):
         if not os.path.isdir(root):
-            raise FileNotFoundError(f"{root}: no such results folder (run tissuebench first)")
+            raise ResultsError(f"{root}: no such results folder (run tissuebench first)")
         self.root = root
         index_path = os.path.join(root, "experiment.json")
         index = {}
@@ -43,7 +61,11 @@ class Experiment:
         self.reference = index.get("reference") or None
         order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
         self.listed_cases = order  # {scenario: [cases]} as the experiment lists them, failed ones included
-        self.listed_points = index.get("scenarios", [])  # experiment.json's entries (name, cases, sweep)
+        self.listed_points = index.get("scenarios", [])  # experiment.json's entries (name, role, cases, sweep)
+        self.roles = {}  # {role: [scenario names]} in experiment.json's order (a sweep gives its points its role)
+        for s in self.listed_points:
+            if s.get("role"):
+                self.roles.setdefault(s["role"], []).append(s["name"])
         self.scenarios = {}
         for scenario in sorted(os.listdir(root)):
             sdir = os.path.join(root, scenario)
@@ -66,8 +88,28 @@ class Experiment:
 
     def scenario(self, name):
         if name not in self.scenarios:
-            raise FileNotFoundError(f"{self.root}/{name}: missing scenario results")
+            raise ResultsError(f"{self.root}/{name}: missing scenario results")
         return self.scenarios[name]
+
+    def scenario_name(self, role):
+        """The name of the one scenario experiment.json lists in `role`, if its results are there."""
+        names = self.roles.get(role, [])
+        if not names:
+            listed = ", ".join(self.roles) or "none"
+            raise ResultsError(f"{self.root}: experiment.json gives no scenario the role '{role}' (roles: {listed}; "
+                               "an experiment file gives roles, and `tissuebench run FILE --index-only` rewrites "
+                               "experiment.json)")
+        if len(names) > 1:
+            raise ResultsError(f"{self.root}: role '{role}' is held by {len(names)} scenarios (a sweep); "
+                               "this script needs one")
+        if names[0] not in self.scenarios:
+            raise ResultsError(f"{self.root}: no results for role '{role}' (scenario '{names[0]}'): a partial run? "
+                               f"run it with tissuebench run <experiment file> --scenario {names[0]}")
+        return names[0]
+
+    def by_role(self, role):
+        """{case: case dict} of the scenario in `role` (scenario_name)."""
+        return self.scenarios[self.scenario_name(role)]
 
     def case_names(self, scenario_names):
         """Case names present in every one of the scenarios, in the first one's order."""
@@ -80,7 +122,7 @@ class Experiment:
 
     def require_reference(self):
         if not self.reference:
-            raise ValueError(f"{self.root}/experiment.json: no reference case declared "
+            raise ResultsError(f"{self.root}/experiment.json: no reference case declared "
                              "(add \"reference\": \"<case>\" to the experiment file)")
         return self.reference
 
@@ -89,7 +131,7 @@ class Experiment:
         cases = self.scenario(scenario)
         ref_name = reference or self.require_reference()
         if ref_name not in cases:
-            raise FileNotFoundError(f"{self.root}/{scenario}/{ref_name}: missing reference results")
+            raise ResultsError(f"{self.root}/{scenario}/{ref_name}: missing reference results")
         return case_metrics(cases[case], cases[ref_name], observed)
 
 

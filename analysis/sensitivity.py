@@ -18,7 +18,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import results_index  # noqa: E402
-from table_io import CASES, fmt, paper_values, write_table  # noqa: E402
+from table_io import LOAD_CASES, ROLES, fmt, paper_values, write_table  # noqa: E402
 from vtu_plot import DPI, plt  # noqa: E402
 
 BASE = "base"
@@ -30,7 +30,9 @@ METRIC_COLUMNS = [("corr_uz", "r(u_z)"), ("corr_mag", "r(|u|)"), ("spearman_uz",
 
 
 def points(exp):
-    """[{scenario, base, load_case, factors {label: value name}, reference_only}] from experiment.json."""
+    """[{scenario, base, load_case, factors {label: value name}, reference_only}] from experiment.json.
+    The load case is the point's role (experiments/sensitivity.json: cube_pull, cube_push)."""
+    load_case_of = {role: lc for lc, role in ROLES["cube"].items()}
     out = []
     for s in exp.listed_points:
         name = s["name"]
@@ -38,7 +40,11 @@ def points(exp):
         base = sweep.get("base", name)
         parts = name.split("__")[1:]
         factors = dict(p.split("=", 1) for p in parts)
-        load_case = next(c for c in CASES if base.endswith(c))
+        if s.get("role") not in load_case_of:
+            raise results_index.ResultsError(
+                f"{exp.root}: scenario '{name}' has role {s.get('role')!r}, not one of {', '.join(load_case_of)} "
+                "(experiment.json; experiments/sensitivity.json gives them)")
+        load_case = load_case_of[s["role"]]
         out.append({"scenario": name, "base": base, "load_case": load_case, "factors": factors,
                     "reference_only": s["cases"] == [exp.reference]})
     return out
@@ -108,13 +114,13 @@ def write_tables(rows, out):
     for factor, level, model in levels:
         row = [factor, level, model]
         for key in ["corr_uz", "corr_mag", "rel_l2", "load_ratio"]:
-            for lc in CASES:
+            for lc in LOAD_CASES:
                 row.append(cell(index.get((factor, level, model, lc)), key))
         md_rows.append(row)
     # The .md is the compact view (pull | push); the .csv has every metric.
     write_table(tables, "table1_sensitivity", header, long_rows)
     md_header = ["factor", "level", "model"] + [f"{m} {lc}" for m in ["r(u_z)", "r(\\|u\\|)", "rel. L2", "load ratio"]
-                                                for lc in CASES]
+                                                for lc in LOAD_CASES]
     md = "| " + " | ".join(md_header) + " |\n|" + "---|" * len(md_header) + "\n"
     md += "".join("| " + " | ".join(str(c) for c in r) + " |\n" for r in md_rows)
     md += ("\nEach model against the fine FEM (fem-direct) on the cube's top surface, one factor changed at a time "
@@ -136,23 +142,23 @@ def reproducibility(rows, paper):
     for factor, level in sorted({(r["factor"], r["level"]) for r in rows}):
         values = {}
         for model in ["hybrid", "pbd"]:
-            for lc in CASES:
+            for lc in LOAD_CASES:
                 r = index.get((factor, level, model, lc)) or index.get((BASE, BASE, model, lc))
                 values[model, lc] = r["metrics"]["corr_uz"] if r and r["metrics"] else float("nan")
-        gaps = [abs(values[m, lc] - target[m][lc]) for m in ["hybrid", "pbd"] for lc in CASES]
+        gaps = [abs(values[m, lc] - target[m][lc]) for m in ["hybrid", "pbd"] for lc in LOAD_CASES]
         deviation = float("inf") if any(g != g for g in gaps) else max(gaps)  # inf: a case failed
 
         def rel_l2(model, lc):
             r = index.get((factor, level, model, lc)) or index.get((BASE, BASE, model, lc))
             return r["metrics"]["rel_l2"] if r and r["metrics"] else float("nan")
-        ranking = all(rel_l2("hybrid", lc) < rel_l2("pbd", lc) for lc in CASES)
+        ranking = all(rel_l2("hybrid", lc) < rel_l2("pbd", lc) for lc in LOAD_CASES)
         out.append({"factor": factor, "level": level, "values": values, "deviation": deviation,
                     "hybrid_closer": ranking})
     return sorted(out, key=lambda r: r["deviation"])
 
 
 def write_reproducibility(repro, out, tolerance=0.01):
-    rows = [[r["factor"], r["level"]] + [fmt(r["values"][m, lc]) for m in ["hybrid", "pbd"] for lc in CASES] +
+    rows = [[r["factor"], r["level"]] + [fmt(r["values"][m, lc]) for m in ["hybrid", "pbd"] for lc in LOAD_CASES] +
             [fmt(r["deviation"]), "yes" if r["deviation"] <= tolerance else "no",
              "yes" if r["hybrid_closer"] else "no"] for r in repro]
     hits = sum(r["deviation"] <= tolerance for r in repro)
@@ -174,7 +180,7 @@ def write_figure(rows, paper, out):
     colours = {"hybrid": "C1", "pbd": "C0"}
     for i, factor in enumerate(factors):
         for k, model in enumerate(["hybrid", "pbd"]):
-            for j, lc in enumerate(CASES):
+            for j, lc in enumerate(LOAD_CASES):
                 vals = [r["metrics"]["corr_uz"] for r in rows if r["metrics"] and
                         r["model"] == model and r["load_case"] == lc and r["factor"] in (factor, BASE)]
                 if len(vals) < 2 or not any(r["factor"] == factor and r["model"] == model for r in rows):
@@ -184,7 +190,7 @@ def write_figure(rows, paper, out):
                         label=f"{model} {lc}" if i == 0 or not ax.get_legend_handles_labels()[1].count(f"{model} {lc}")
                         else None)
     for model in ["hybrid", "pbd"]:
-        for lc, style in zip(CASES, ["-", "--"]):
+        for lc, style in zip(LOAD_CASES, ["-", "--"]):
             ax.axvline(target[model][lc], color=colours[model], ls=style, lw=0.8)
     ax.set_yticks(range(len(factors)))
     ax.set_yticklabels(factors, fontsize=8)
@@ -210,7 +216,8 @@ def make(exp_dir, out):
 
 
 if __name__ == "__main__":
-    rows, hits, closer = make(sys.argv[1] if len(sys.argv) > 1 else "results/sensitivity",
-                              sys.argv[2] if len(sys.argv) > 2 else "results")
+    rows, hits, closer = results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/sensitivity",
+                                                         sys.argv[2] if len(sys.argv) > 2 else "results"),
+                                            "sensitivity")
     print(f"sensitivity: {len(rows)} rows; {hits} points within 0.01 of the paper's table 1; "
           f"hybrid closer than PBD at {closer} points")

@@ -8,20 +8,22 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import results_index  # noqa: E402
-from table_io import (CASES, case_legend, fmt, machine_note, ordered_for_paper, paper_value,  # noqa: E402
+from table_io import (LOAD_CASES, ROLES, case_legend, fmt, machine_note, ordered_for_paper, paper_value,  # noqa: E402
                       paper_values, write_table)
 
 
-def timing_rows(exp, kind, cases, paper, table, with_setup):
+def timing_rows(exp, body, cases, paper, table, with_setup):
+    """Per case: median, p95 and the paper's value for each load case of `body`
+    ("cube" or "liver": the scenarios in its roles), then the pull's setup time."""
     rows = []
     for case in cases:
         row = [case]
-        for lc in CASES:
-            t = exp.scenario(f"{kind}-{lc}")[case]["timings"]
+        for lc in LOAD_CASES:
+            t = exp.by_role(ROLES[body][lc])[case]["timings"]
             p = paper_value(paper, table, case, lc)
             row += [fmt(t["step"]["median_ms"], 2), fmt(t["step"]["p95_ms"], 2), fmt(p, 1) if p is not None else ""]
         if with_setup:
-            row.append(fmt(exp.scenario(f"{kind}-pull")[case]["timings"]["setup_ms"], 0))
+            row.append(fmt(exp.by_role(ROLES[body]["pull"])[case]["timings"]["setup_ms"], 0))
         rows.append(row)
     return rows
 
@@ -29,10 +31,10 @@ def timing_rows(exp, kind, cases, paper, table, with_setup):
 def make(exp_dir, out_dir):
     exp = results_index.Experiment(exp_dir)
     paper = paper_values()
-    scenarios = [f"cube-{c}" for c in CASES]
+    scenarios = [exp.scenario_name(ROLES["cube"][lc]) for lc in LOAD_CASES]
     cases = ordered_for_paper(exp.case_names(scenarios), paper, "table2_ms_per_frame")
     rows = timing_rows(exp, "cube", cases, paper, "table2_ms_per_frame", True)
-    pull = exp.scenario("cube-pull")
+    pull = exp.by_role(ROLES["cube"]["pull"])
     write_table(out_dir, "table2",
                 ["model", "pull median (ms)", "pull p95 (ms)", "pull paper (ms)", "push median (ms)", "push p95 (ms)",
                  "push paper (ms)", "setup, pull (ms)"], rows,
@@ -45,5 +47,6 @@ def make(exp_dir, out_dir):
 
 
 if __name__ == "__main__":
-    make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", sys.argv[2] if len(sys.argv) > 2 else "results/tables")
+    results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/paper",
+                                    sys.argv[2] if len(sys.argv) > 2 else "results/tables"), "table2")
     print("table 2 written")

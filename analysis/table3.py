@@ -10,19 +10,20 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import results_index  # noqa: E402
 from table2 import timing_rows  # noqa: E402
-from table_io import CASES, fmt, machine_note, ordered_for_paper, paper_values, write_table  # noqa: E402
+from table_io import LOAD_CASES, ROLES, fmt, machine_note, ordered_for_paper, paper_values, write_table  # noqa: E402
 
 
 def make(exp_dir, out_dir):
     exp = results_index.Experiment(exp_dir)
     paper = paper_values()
-    scenarios = [f"liver-{c}" for c in CASES]
+    liver = {lc: exp.scenario_name(ROLES["liver"][lc]) for lc in LOAD_CASES}
+    scenarios = list(liver.values())
     cases = ordered_for_paper(exp.case_names(scenarios), paper, "table3_liver_ms_per_frame")
     rows = timing_rows(exp, "liver", cases, paper, "table3_liver_ms_per_frame", False)
     write_table(out_dir, "table3", ["model", "pull median (ms)", "pull p95 (ms)", "pull paper (ms)",
                                     "push median (ms)", "push p95 (ms)", "push paper (ms)"], rows,
                 "Liver, per-frame time. The paper reports the hybrid only (5.5 ms). " +
-                machine_note(exp.scenario("liver-pull")))
+                machine_note(exp.scenario(liver["pull"])))
 
     ref = exp.require_reference()
     rows = []
@@ -30,9 +31,9 @@ def make(exp_dir, out_dir):
         for key, label, digits in [("corr_uz", "r(u_z)", 3), ("rel_l2", "relative L2 error", 3),
                                    ("load_ratio", "|u| ratio at load point", 3)]:
             row = [case, label]
-            for lc in CASES:
-                c = exp.scenario(f"liver-{lc}")[case]
-                v = exp.metrics(f"liver-{lc}", case)[key]
+            for lc in LOAD_CASES:
+                c = exp.scenario(liver[lc])[case]
+                v = exp.metrics(liver[lc], case)[key]
                 row.append(fmt(v, digits) + ("" if c["run"]["reached_steady_state"] else " (not steady)"))
             rows.append(row)
     write_table(out_dir, "table3_metrics", ["model", "metric", "pull", "push"], rows,
@@ -43,5 +44,6 @@ def make(exp_dir, out_dir):
 
 
 if __name__ == "__main__":
-    make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", sys.argv[2] if len(sys.argv) > 2 else "results/tables")
+    results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/paper",
+                                    sys.argv[2] if len(sys.argv) > 2 else "results/tables"), "table3")
     print("table 3 written")

@@ -5,7 +5,10 @@ import json
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-CASES = ["pull", "push"]  # the paper's two load cases, scenarios <kind>-pull / <kind>-push
+LOAD_CASES = ["pull", "push"]  # the paper's two load cases: the columns of tables 1-3
+# The role of each of the paper's scenarios (experiments/paper.json gives them; the
+# runner writes them into experiment.json): {body: {load case: role}}.
+ROLES = {"cube": {"pull": "cube_pull", "push": "cube_push"}, "liver": {"pull": "liver_pull", "push": "liver_push"}}
 
 
 def paper_values():

@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import results_index  # noqa: E402
-from table_io import CASES  # noqa: E402
+from table_io import LOAD_CASES, ROLES  # noqa: E402
 from vtu_plot import DPI, plt  # noqa: E402
 
 FLOOR = 1e-4  # errors below this (the reference itself, solver checks) are drawn here
@@ -18,12 +18,13 @@ def make(exp_dir, out):
     """Writes time_vs_accuracy.png; returns the case names plotted."""
     exp = results_index.Experiment(exp_dir)
     ref = exp.require_reference()
-    cases = exp.case_names([f"cube-{lc}" for lc in CASES])
+    cube = {lc: exp.scenario_name(ROLES["cube"][lc]) for lc in LOAD_CASES}
+    cases = exp.case_names(list(cube.values()))
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    for lc, marker in zip(CASES, ["o", "s"]):
+    for lc, marker in zip(LOAD_CASES, ["o", "s"]):
         for case in cases:
-            err = 0.0 if case == ref else exp.metrics(f"cube-{lc}", case)["rel_l2"]
-            t = exp.scenario(f"cube-{lc}")[case]["timings"]["step"]["median_ms"]
+            err = 0.0 if case == ref else exp.metrics(cube[lc], case)["rel_l2"]
+            t = exp.scenario(cube[lc])[case]["timings"]["step"]["median_ms"]
             ax.scatter(t, max(err, FLOOR), marker=marker)
             ax.annotate(f"{case} ({lc})", (t, max(err, FLOOR)), fontsize=7)
     ax.set_xscale("log")
@@ -41,5 +42,5 @@ def make(exp_dir, out):
 if __name__ == "__main__":
     out = sys.argv[2] if len(sys.argv) > 2 else "results/figures"
     os.makedirs(out, exist_ok=True)
-    make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out)
+    results_index.main(lambda: make(sys.argv[1] if len(sys.argv) > 1 else "results/paper", out), "time_vs_accuracy")
     print("time vs accuracy written")

@@ -48,8 +48,8 @@ nlohmann::json MeshRecipe::to_json() const {
     j["resolution"] = shape.resolution;
   } else {
     j["type"] = "files";
-    j["surface"] = surface_file;
-    if (!coarse_file.empty()) j["coarse"] = coarse_file;
+    j["surface"] = surface_reference.empty() ? surface_file : surface_reference;
+    if (!coarse_file.empty()) j["coarse"] = coarse_reference.empty() ? coarse_file : coarse_reference;
     j["unit_scale"] = unit_scale;
     j["repair_self_intersections"] = repair_self_intersections;
     j["control_points"] = control_point_rule_name(control_points);
@@ -70,12 +70,25 @@ nlohmann::json MeshRecipe::to_json() const {
   return j;
 }
 
-MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where) {
+MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where,
+                             const DataDir& data) {
   StrictObject o(j, where);
+  return parse_mesh_recipe(o.in_schema("scenario.mesh"), base_dir, data);
+}
+
+MeshRecipe parse_mesh_recipe(StrictObject o, const std::string& base_dir, const DataDir& data) {
   MeshRecipe r;
   const std::string type = o.text("type", std::nullopt, {"cube", "files", "shape"});
-  auto path = [&](const std::string& p) {
-    return fs::path(p).is_absolute() ? p : (fs::path(base_dir) / p).lexically_normal().string();
+  // A file: a data reference (read from the data directory, recorded as written)
+  // or a path relative to the scenario file that states it.
+  auto file = [&](const std::string& key, std::string& reference) {
+    const std::string p = o.text(key, std::nullopt);
+    if (is_data_reference(p)) {
+      reference = p;
+      return resolve_data_file(p, data, o.where() + "." + key);
+    }
+    if (fs::path(p).is_absolute()) return p;
+    return (fs::path(o.directory_of(key, base_dir)) / p).lexically_normal().string();
   };
   // Every fallback is the default of the field it fills (declared once, in the
   // structs of mesh_recipe.h, cube_generator.h, tetgen_driver.h, hybrid_builder.h).
@@ -93,8 +106,8 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
     r.shape.resolution = o.integer("resolution", r.shape.resolution, kMinShapeResolution, kMaxShapeResolution);
   } else {
     r.kind = MeshRecipe::Kind::Files;
-    r.surface_file = path(o.text("surface", std::nullopt));
-    if (o.has("coarse")) r.coarse_file = path(o.text("coarse", std::nullopt));
+    r.surface_file = file("surface", r.surface_reference);
+    if (o.has("coarse")) r.coarse_file = file("coarse", r.coarse_reference);
     r.unit_scale = o.number("unit_scale", r.unit_scale, 1e-12, 1e12);
     r.repair_self_intersections = o.boolean("repair_self_intersections", r.repair_self_intersections);
     r.control_points = o.text("control_points", control_point_rule_name(r.control_points),

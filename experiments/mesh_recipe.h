@@ -7,9 +7,11 @@
 #include <vector>
 
 #include "cube_generator.h"
+#include "data_dir.h"
 #include "hybrid_builder.h"
 #include "mesh_types.h"
 #include "shapes.h"
+#include "strict_json.h"
 
 namespace tb {
 
@@ -26,9 +28,12 @@ struct MeshRecipe {
   /// Off by default: it also changes the hybrid's coarse selection (made from the
   /// fine volume's vertices), and the paper scenarios keep the mesh they measure.
   bool symmetric_fine_volume = false;
-  std::string surface_file;  ///< Files: the fine surface
-  std::string coarse_file;   ///< Files: optional given coarse volume
-  double unit_scale = 1.0;   ///< Files: multiply coordinates (0.01 for cm)
+  std::string surface_file;  ///< Files: the fine surface (the path read)
+  std::string coarse_file;   ///< Files: optional given coarse volume (the path read)
+  /// Files given as data references ("data:meshes/liver.msh", data_dir.h): the
+  /// reference as written, recorded in to_json() instead of the machine's path.
+  std::string surface_reference, coarse_reference;
+  double unit_scale = 1.0;  ///< Files: multiply coordinates (0.01 for cm)
   bool repair_self_intersections = false;
   ControlPointRule control_points = ControlPointRule::NearestToCoarseSurfaceNodes;
   HybridBuildOptions build;       ///< fine TetGen bounds, coarse target
@@ -55,9 +60,13 @@ struct MeshReport {
   nlohmann::json to_json(const HybridMesh& mesh) const;
 };
 
-/// Parses the scenario's "mesh" object strictly; file paths are resolved against
-/// `base_dir`. `where` prefixes error messages.
-MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where);
+/// Parses the scenario's "mesh" object strictly; relative file paths are resolved
+/// against the directory of the file that set them (`base_dir` if the object knows
+/// no origins), data references against `data` (a missing data file is an error).
+MeshRecipe parse_mesh_recipe(StrictObject o, const std::string& base_dir, const DataDir& data);
+/// The same for a bare JSON object; `where` prefixes error messages.
+MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_dir, const std::string& where,
+                             const DataDir& data = data_dir());
 
 /// Reads/generates, checks and builds. Self-intersections are an error unless the
 /// recipe asks for repair. A surface whose bounding-box diagonal (after

@@ -241,6 +241,10 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   j["scenario"] = s.name;
   j["scenario_file"] = s.file;
   j["scenario_resolved"] = s.to_json();
+  // Where the data references of the scenario were read from on this machine.
+  for (const auto& [reference, path] : {std::pair{s.mesh.surface_reference, s.mesh.surface_file},
+                                        std::pair{s.mesh.coarse_reference, s.mesh.coarse_file}})
+    if (!reference.empty()) j["data_files"][reference] = path;
   if (!s.sweep_base.empty()) j["sweep"] = {{"base", s.sweep_base}, {"values", s.sweep_values}, {"keys", s.sweep_keys}};
   j["case"] = run.case_name;
   j["model"] = run.model;
@@ -310,6 +314,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   // What the analysis reads to know the cases, their order and the reference.
   fs::create_directories(fs::path(opt.out_dir) / e.name);
   write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
+  if (opt.index_only) return outcomes;
   for (const Scenario& s : e.scenarios) {
     if (!opt.only_scenario.empty() && opt.only_scenario != s.name) continue;
     // The same resolved recipe (file paths absolute) builds the same mesh: build it once.

@@ -12,12 +12,17 @@
 namespace tb {
 
 struct RunOptions {
-  std::string out_dir = "results";  ///< results/<experiment>/<scenario>/<case>/
-  std::string only_case;            ///< run only this case (or model) name; empty: all
-  std::string only_scenario;        ///< run only the scenario of this name; empty: all
-  bool write_meshes = true;         ///< the built meshes into <scenario>/mesh/ (large for refined ones)
-  bool progress = true;             ///< progress lines on stderr
-  std::string mesh_cache_dir;       ///< built meshes cached here by content hash; empty: none
+  /// <out_dir>/<experiment>/<scenario>/<case>/. Not results/: a trial run must not
+  /// overwrite the committed results (scripts that regenerate them pass results).
+  std::string out_dir = "runs";
+  std::string only_case;      ///< run only this case (or model) name; empty: all
+  std::string only_scenario;  ///< run only the scenario of this name; empty: all
+  bool write_meshes = true;   ///< the built meshes into <scenario>/mesh/ (large for refined ones)
+  /// Write <experiment>/experiment.json (the index the analysis reads: cases,
+  /// their order, roles, the reference) and nothing else: no mesh, no case.
+  bool index_only = false;
+  bool progress = true;        ///< progress lines on stderr
+  std::string mesh_cache_dir;  ///< built meshes cached here by content hash; empty: none
   // Several processes (mpirun, issue 13): every one runs every case (the
   // distributed FEM together, the other models redundantly); only the one with
   // write_outputs writes files. With `barrier` set, that process builds each mesh

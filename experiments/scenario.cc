@@ -1,9 +1,12 @@
 #include "scenario.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <memory>
 
 #include "strict_json.h"
 #include "sweep.h"
@@ -25,6 +28,7 @@ nlohmann::json Experiment::to_json() const {
     nlohmann::json cases = nlohmann::json::array();
     for (const ModelRun& run : s.models) cases.push_back(run.case_name);
     nlohmann::json entry = {{"name", s.name}, {"file", s.file}, {"cases", cases}};
+    if (!s.role.empty()) entry["role"] = s.role;
     if (!s.sweep_base.empty())
       entry["sweep"] = {{"base", s.sweep_base}, {"values", s.sweep_values}, {"keys", s.sweep_keys}};
     j["scenarios"].push_back(entry);
@@ -52,6 +56,18 @@ nlohmann::json Scenario::to_json() const {
                  {"divergence_factor", divergence_factor}};
   j["observe"] = {{"vertices", observed}, {"top_tolerance", top_tolerance}};
   j["output"] = {{"series_every", series_every}};
+  return j;
+}
+
+nlohmann::json Scenario::to_json_with_models() const {
+  nlohmann::json j = to_json();
+  j["models"] = nlohmann::json::array();
+  for (const ModelRun& run : models)
+    j["models"].push_back({{"case", run.case_name},
+                           {"model", run.model},
+                           {"parameters", run.parameters.to_json()},
+                           {"parameters_given", run.parameters_given}});
+  if (!sweep_base.empty()) j["sweep"] = {{"base", sweep_base}, {"values", sweep_values}, {"keys", sweep_keys}};
   return j;
 }
 
@@ -102,16 +118,145 @@ nlohmann::json read_json(const std::string& path) {
   }
 }
 
-Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
+std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
+
+/// A scenario file with its "extends" chain merged, and which file set each value.
+struct Document {
+  nlohmann::json json;
+  std::shared_ptr<KeyOrigins> origins;
+};
+
+/// Deep merge: an object merges into an object key by key; any other value
+/// (array, scalar) replaces what the base has; null removes the base's key.
+void merge_into(nlohmann::json& base, const nlohmann::json& over, const std::string& pointer, const std::string& file,
+                KeyOrigins& origins) {
+  for (const auto& [key, value] : over.items()) {
+    const std::string at = json_pointer_child(pointer, key);
+    if (value.is_null()) {
+      base.erase(key);
+      origins.record(at, value, file);
+    } else if (value.is_object() && base.contains(key) && base[key].is_object()) {
+      merge_into(base[key], value, at, file, origins);
+    } else {
+      base[key] = value;
+      origins.record(at, value, file);
+    }
+  }
+}
+
+/// Reads a scenario file; if it says "extends": "<path relative to it>", the base
+/// is read first (recursively) and this file's keys are merged over it.
+Document read_scenario_document(const std::string& path, std::vector<std::string> chain = {}) {
+  const std::string canonical = fs::weakly_canonical(path).string();
+  if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
+    std::string names;
+    for (const auto& c : chain) names += file_name(c) + " -> ";
+    throw ScenarioError(file_name(chain.front()) + ".extends: a cycle: " + names + file_name(path));
+  }
+  chain.push_back(canonical);
+  nlohmann::json j = read_json(path);
+  if (!j.is_object() || !j.contains("extends")) {
+    Document d{std::move(j), std::make_shared<KeyOrigins>()};
+    d.origins->file = path;
+    d.origins->record("", d.json, path);
+    return d;
+  }
+  const nlohmann::json& extends = j["extends"];
+  if (!extends.is_string() || extends.get<std::string>().empty())
+    throw ScenarioError(file_name(path) + ".extends: must be the path of a scenario file, relative to this one");
+  const std::string base = (fs::path(path).parent_path() / extends.get<std::string>()).lexically_normal().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(base, ec))
+    throw ScenarioError(file_name(path) + ".extends: '" + extends.get<std::string>() + "': no such file (" + base +
+                        ")");
+  Document d = read_scenario_document(base, chain);
+  j.erase("extends");
+  merge_into(d.json, j, "", path, *d.origins);
+  d.origins->file = path;
+  return d;
+}
+
+/// The case name a model entry gives (parse_scenario's rule: "name", else "model"); "" if neither is a string.
+std::string case_name_of(const nlohmann::json& entry) {
+  for (const char* key : {"name", "model"})
+    if (entry.is_object() && entry.contains(key) && entry[key].is_string()) return entry[key].get<std::string>();
+  return "";
+}
+
+/// The cases a scenario runs in an experiment: the experiment's "models", then the
+/// scenario file's own "models", then the entry's "models_add", in that order. A
+/// case name given by two of them is an error naming both.
+void combine_models(Document& doc, const nlohmann::json& experiment_models, const nlohmann::json& added,
+                    const std::string& experiment_file, const std::string& entry_where) {
+  if (experiment_models.is_null() && added.is_null()) return;
+  if (!doc.json.is_object()) return;  // parse_scenario reports it
+  const nlohmann::json own = doc.json.contains("models") ? doc.json["models"] : nlohmann::json::array();
+  if (!own.is_array()) return;  // parse_scenario reports it
+  const std::string own_file = doc.origins->origin("/models");
+  nlohmann::json combined = nlohmann::json::array();
+  std::vector<std::string> from;  // the file of each combined entry
+  std::map<std::string, std::string> named_by;
+  auto add = [&](const nlohmann::json& list, const std::string& file, const std::string& source) {
+    if (list.is_null()) return;
+    for (const auto& entry : list) {
+      const std::string name = case_name_of(entry);
+      if (!name.empty()) {
+        auto [it, fresh] = named_by.emplace(name, source);
+        if (!fresh)
+          throw ScenarioError(entry_where + ": case '" + name + "' is given twice: by " + it->second + " and by " +
+                              source + " (case names must differ)");
+      }
+      combined.push_back(entry);
+      from.push_back(file);
+    }
+  };
+  add(experiment_models, experiment_file, file_name(experiment_file) + " models");
+  add(own, own_file, file_name(own_file) + " models");
+  add(added, experiment_file, entry_where + ".models_add");
+  doc.json["models"] = combined;
+  doc.origins->record("/models", combined, own_file);
+  for (size_t i = 0; i < combined.size(); ++i)
+    doc.origins->record(json_pointer_child("/models", std::to_string(i)), combined[i], from[i]);
+}
+
+/// The origins of a sweep point (the base document with the sweep's values set,
+/// its cases possibly fewer): each case keeps the origin of the base's case of the
+/// same name, and every value the sweep changed is the experiment file's.
+void record_sweep_origins(const Document& base, Document& point, const std::string& experiment_file) {
+  auto record_changes = [&](const nlohmann::json& before, const nlohmann::json& after, const std::string& prefix) {
+    for (const auto& op : nlohmann::json::diff(before, after))
+      if (op.at("op") != "remove")
+        point.origins->record(prefix + op.at("path").get<std::string>(), op.at("value"), experiment_file);
+  };
+  nlohmann::json before = base.json, after = point.json;
+  if (!before.is_object() || !after.is_object()) return;
+  before.erase("models");
+  after.erase("models");
+  record_changes(before, after, "");
+  if (!point.json.contains("models") || !point.json["models"].is_array() || !base.json.contains("models")) return;
+  const nlohmann::json& base_models = base.json["models"];
+  const nlohmann::json& models = point.json["models"];
+  for (size_t i = 0; i < models.size(); ++i)
+    for (size_t k = 0; k < base_models.size(); ++k)
+      if (case_name_of(base_models[k]) == case_name_of(models[i])) {
+        const std::string at = json_pointer_child("/models", std::to_string(i));
+        point.origins->record(at, models[i], base.origins->origin(json_pointer_child("/models", std::to_string(k))));
+        record_changes(base_models[k], models[i], at);
+        break;
+      }
+}
+
+Scenario parse_scenario(const Document& doc, const std::string& file, const DataDir& data) {
   const std::string base = fs::path(file).parent_path().string();
-  const std::string where = fs::path(file).filename().string();
-  StrictObject o(j, where);
+  const std::string where = file_name(file);
+  StrictObject o(doc.json, where, doc.origins);
+  o.in_schema("scenario");
   Scenario s;
   s.file = file;
   s.name = o.text("name", std::nullopt);
   if (s.name.empty() || s.name.find('/') != std::string::npos) o.fail("name", "must be a non-empty folder name");
   s.description = o.text("description", "");
-  s.mesh = parse_mesh_recipe(o.raw("mesh"), base, where + ".mesh");
+  s.mesh = parse_mesh_recipe(o.object("mesh"), base, data);
 
   StrictObject m = o.object("material", true);
   // Fallbacks are the defaults of the fields they fill (Material in models/model.h,
@@ -168,7 +313,7 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
   const nlohmann::json& models = o.raw("models");
   if (!models.is_array() || models.empty()) o.fail("models", "must be a non-empty array");
   for (size_t i = 0; i < models.size(); ++i) {
-    StrictObject mo(models[i], where + ".models[" + std::to_string(i) + "]");
+    StrictObject mo = o.item("models", i);
     ModelRun run;
     run.model = mo.text("model", std::nullopt);
     run.case_name = mo.text("name", run.model);
@@ -183,7 +328,7 @@ Scenario parse_scenario(const nlohmann::json& j, const std::string& file) {
       if (run.parameters_given.is_null()) run.parameters_given = nlohmann::json::object();
       run.parameters = resolve_parameters(info->parameters, run.parameters_given, mo.where() + ".parameters");
     } catch (const std::invalid_argument& e) {
-      throw ScenarioError(e.what());
+      throw ScenarioError(e.what() + mo.set_in(""));
     }
     mo.finish();
     for (const auto& other : s.models)
@@ -208,41 +353,79 @@ nlohmann::json what_runs(const Scenario& s) {
 
 }  // namespace
 
-Experiment load_experiment(const std::string& path) {
+Experiment load_experiment(const std::string& path, const DataDir& data) {
   const nlohmann::json j = read_json(path);
+  const std::string where = file_name(path);
   Experiment e;
   if (j.is_object() && j.contains("scenarios")) {
-    StrictObject o(j, fs::path(path).filename().string());
+    StrictObject o(j, where);
+    o.in_schema("experiment");
     e.name = o.text("name", std::nullopt);
     e.description = o.text("description", "");
     e.reference = o.text("reference", "");
     const nlohmann::json& list = o.raw("scenarios");
-    if (!list.is_array() || list.empty()) o.fail("scenarios", "must be a non-empty array of scenario file paths");
+    if (!list.is_array() || list.empty())
+      o.fail("scenarios",
+             "must be a non-empty array of scenario files (paths, or {\"file\", \"role\", \"models_add\"})");
+    const nlohmann::json& models = o.raw("models");
+    if (!models.is_null() && (!models.is_array() || models.empty()))
+      o.fail("models", "must be a non-empty array of cases (as a scenario's \"models\")");
     const nlohmann::json& sweep = o.raw("sweep");
     o.finish();
-    for (const auto& item : list) {
-      if (!item.is_string()) o.fail("scenarios", "entries must be file paths (strings)");
-      const std::string file = (fs::path(path).parent_path() / item.get<std::string>()).lexically_normal().string();
-      const nlohmann::json base = read_json(file);
+    std::vector<std::string> roles;
+    for (size_t i = 0; i < list.size(); ++i) {
+      // An entry: a path, or {"file", "role", "models_add"}.
+      std::string relative, role;
+      nlohmann::json added;
+      const std::string entry_where = where + ".scenarios[" + std::to_string(i) + "]";
+      if (list[i].is_string()) {
+        relative = list[i].get<std::string>();
+      } else if (list[i].is_object()) {
+        StrictObject eo = o.item("scenarios", i);
+        relative = eo.text("file", std::nullopt);
+        role = eo.text("role", "");
+        if (!role.empty()) {
+          if (role.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos ||
+              !std::islower(static_cast<unsigned char>(role[0])))
+            eo.fail("role", "'" + role + "' must be lower case letters, digits and _, starting with a letter");
+          if (std::find(roles.begin(), roles.end(), role) != roles.end())
+            eo.fail("role", "'" + role + "' is given to two scenarios");
+          roles.push_back(role);
+        }
+        added = eo.raw("models_add");
+        if (!added.is_null() && (!added.is_array() || added.empty()))
+          eo.fail("models_add", "must be a non-empty array of cases (as a scenario's \"models\")");
+        eo.finish();
+      } else {
+        o.fail("scenarios", "entries must be file paths or {\"file\", \"role\", \"models_add\"} objects");
+      }
+      const std::string file = (fs::path(path).parent_path() / relative).lexically_normal().string();
+      Document doc = read_scenario_document(file);
+      combine_models(doc, models, added, path, entry_where);
       if (sweep.is_null()) {
-        e.scenarios.push_back(parse_scenario(base, file));
+        e.scenarios.push_back(parse_scenario(doc, file, data));
+        e.scenarios.back().role = role;
         continue;
       }
       // Each base scenario expanded into the sweep's points (sweep.h).
+      const nlohmann::json& base = doc.json;
       const std::string base_name = base.is_object() && base.contains("name") && base["name"].is_string()
                                         ? base["name"].get<std::string>()
                                         : fs::path(file).stem().string();
       std::vector<nlohmann::json> seen;  // what each point runs: a level equal to another point's runs once
-      for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, fs::path(path).filename().string())) {
+      for (SweepPoint& point : expand_sweep(sweep, base, base_name, e.reference, where)) {
+        Document at_point{std::move(point.scenario), std::make_shared<KeyOrigins>(*doc.origins)};
+        record_sweep_origins(doc, at_point, path);
         Scenario s;
         try {
-          s = parse_scenario(point.scenario, file);
+          s = parse_scenario(at_point, file, data);
         } catch (const ScenarioError& err) {
-          throw ScenarioError(fs::path(path).filename().string() + ": sweep point '" + point.name + "': " + err.what());
+          throw ScenarioError(where + ": sweep point '" + point.name + "': " + err.what());
         }
         const nlohmann::json runs = what_runs(s);
         if (std::find(seen.begin(), seen.end(), runs) != seen.end()) continue;  // e.g. a default stated explicitly
         seen.push_back(runs);
+        s.role = role;
         s.sweep_base = base_name;
         s.sweep_values = std::move(point.values);
         s.sweep_keys = std::move(point.keys);
@@ -256,14 +439,13 @@ Experiment load_experiment(const std::string& path) {
   } else {
     // A scenario file run alone is an experiment of one scenario; it may name its
     // reference case too.
-    nlohmann::json scenario = j;
-    if (scenario.is_object() && scenario.contains("reference")) {
-      if (!scenario["reference"].is_string())
-        throw ScenarioError(fs::path(path).filename().string() + ": reference: must be a case name (string)");
-      e.reference = scenario["reference"].get<std::string>();
-      scenario.erase("reference");
+    Document doc = read_scenario_document(path);
+    if (doc.json.is_object() && doc.json.contains("reference")) {
+      if (!doc.json["reference"].is_string()) throw ScenarioError(where + ": reference: must be a case name (string)");
+      e.reference = doc.json["reference"].get<std::string>();
+      doc.json.erase("reference");
     }
-    Scenario s = parse_scenario(scenario, path);
+    Scenario s = parse_scenario(doc, path, data);
     e.name = s.name;
     e.description = s.description;
     e.scenarios.push_back(std::move(s));

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "data_dir.h"
 #include "mesh_recipe.h"
 #include "model.h"
 
@@ -31,6 +32,9 @@ struct ModelRun {
 
 struct Scenario {
   std::string name;
+  /// The scenario's role in its experiment (e.g. "cube_pull"): how the analysis
+  /// finds it (experiment.json); empty when the experiment gives none.
+  std::string role;
   std::string description;
   std::string file;
   MeshRecipe mesh;
@@ -63,6 +67,9 @@ struct Scenario {
   /// Every value as resolved, defaults included (run.json "scenario_resolved");
   /// the model list is not included (each run.json holds its own model).
   nlohmann::json to_json() const;
+  /// to_json() and the model list: each case's name, model, resolved and given
+  /// parameters (`tissuebench resolve`).
+  nlohmann::json to_json_with_models() const;
 };
 
 /// Fills what a scenario states relative to its mesh: the support box of
@@ -81,12 +88,14 @@ struct Experiment {
 
   /// What the analysis needs to know of the experiment (written as
   /// results/<name>/experiment.json): name, description, reference, and per
-  /// scenario its cases in the order the file lists them.
+  /// scenario its name, file, role (if given) and cases in the order it runs them.
   nlohmann::json to_json() const;
 };
 
-/// Reads a scenario file, or an experiment file ({"name", "scenarios": [paths]}).
-/// Throws ScenarioError naming the file and key.
-Experiment load_experiment(const std::string& path);
+/// Reads a scenario file, or an experiment file ({"name", "scenarios": [...]}),
+/// following scenario files' "extends" and combining an experiment's "models"
+/// with each scenario's (docs/scenario_schema.md). Data references are read from
+/// `data`. Throws ScenarioError naming the file and key.
+Experiment load_experiment(const std::string& path, const DataDir& data = data_dir());
 
 }  // namespace tb

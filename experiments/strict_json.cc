@@ -1,21 +1,73 @@
 #include "strict_json.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
+
+#include "file_schema.h"
 
 namespace tb {
 
-StrictObject::StrictObject(const nlohmann::json& j, std::string where) : j_(j), where_(std::move(where)) {
-  if (!j_.is_object()) throw ScenarioError(where_ + ": must be a JSON object");
+std::string json_pointer_child(const std::string& pointer, const std::string& key) {
+  std::string escaped;
+  for (char c : key) escaped += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  return pointer + "/" + escaped;
+}
+
+void KeyOrigins::record(const std::string& pointer, const nlohmann::json& value, const std::string& from) {
+  // Forget the pointer and everything below it ("<pointer>/..."), then record the value's tree.
+  const std::string below = pointer + "/";
+  set_by.erase(pointer);
+  for (auto it = set_by.lower_bound(below); it != set_by.end() && it->first.rfind(below, 0) == 0;)
+    it = set_by.erase(it);
+  set_by[pointer] = from;
+  if (value.is_object())
+    for (const auto& [k, v] : value.items()) record(json_pointer_child(pointer, k), v, from);
+  else if (value.is_array())
+    for (size_t i = 0; i < value.size(); ++i) record(json_pointer_child(pointer, std::to_string(i)), value[i], from);
+}
+
+const std::string& KeyOrigins::origin(const std::string& pointer) const {
+  auto it = set_by.find(pointer);
+  return it == set_by.end() ? file : it->second;
+}
+
+StrictObject::StrictObject(const nlohmann::json& j, std::string where, std::shared_ptr<const KeyOrigins> origins,
+                           std::string pointer)
+    : j_(j), where_(std::move(where)), origins_(std::move(origins)), pointer_(std::move(pointer)) {
+  if (!j_.is_object()) throw ScenarioError(where_ + ": must be a JSON object" + set_in(""));
+}
+
+std::string StrictObject::set_in(const std::string& key) const {
+  if (!origins_) return "";
+  const std::string& from = origins_->origin(key.empty() ? pointer_ : json_pointer_child(pointer_, key));
+  if (from == origins_->file) return "";
+  return " (set in " + std::filesystem::path(from).filename().string() + ")";
+}
+
+std::string StrictObject::directory_of(const std::string& key, const std::string& fallback) const {
+  if (!origins_) return fallback;
+  return std::filesystem::path(origins_->origin(json_pointer_child(pointer_, key))).parent_path().string();
 }
 
 void StrictObject::fail(const std::string& key, const std::string& problem) const {
-  throw ScenarioError(where_ + "." + key + ": " + problem);
+  throw ScenarioError(where_ + "." + key + set_in(key) + ": " + problem);
+}
+
+StrictObject& StrictObject::in_schema(const std::string& name) {
+  schema_ = name;
+  return *this;
 }
 
 bool StrictObject::has(const std::string& key) const { return j_.contains(key); }
 
 const nlohmann::json* StrictObject::value(const std::string& key) {
+  if (!schema_.empty()) {
+    const auto it = file_schema().find(schema_);
+    if (it == file_schema().end() || std::find(it->second.begin(), it->second.end(), key) == it->second.end())
+      throw std::logic_error("the loader reads '" + schema_ + "." + key + "', which file_schema.cc does not declare");
+  }
   read_.insert(key);
   auto it = j_.find(key);
   return it == j_.end() ? nullptr : &*it;
@@ -91,10 +143,23 @@ StrictObject StrictObject::object(const std::string& key, bool optional) {
   const nlohmann::json* v = value(key);
   if (!v) {
     if (!optional) fail(key, "missing (required)");
-    return StrictObject(nlohmann::json::object(), where_ + "." + key);
+    StrictObject absent(nlohmann::json::object(), where_ + "." + key);
+    if (!schema_.empty()) absent.in_schema(schema_ + "." + key);
+    return absent;
   }
   if (!v->is_object()) fail(key, "must be an object, found " + v->dump());
-  return StrictObject(*v, where_ + "." + key);
+  StrictObject child(*v, where_ + "." + key, origins_, json_pointer_child(pointer_, key));
+  if (!schema_.empty()) child.in_schema(schema_ + "." + key);
+  return child;
+}
+
+StrictObject StrictObject::item(const std::string& key, size_t index) {
+  const nlohmann::json& list = raw(key);
+  if (!list.is_array() || index >= list.size()) fail(key, "has no element " + std::to_string(index));
+  StrictObject element(list[index], where_ + "." + key + "[" + std::to_string(index) + "]", origins_,
+                       json_pointer_child(json_pointer_child(pointer_, key), std::to_string(index)));
+  if (!schema_.empty()) element.in_schema(schema_ + "." + key + "[]");
+  return element;
 }
 
 const nlohmann::json& StrictObject::raw(const std::string& key) {
@@ -108,7 +173,7 @@ void StrictObject::finish() const {
     if (!read_.count(k)) {
       std::string known;
       for (const auto& r : read_) known += (known.empty() ? "" : ", ") + r;
-      throw ScenarioError(where_ + ": unknown key '" + k + "' (expected one of: " + known + ")");
+      throw ScenarioError(where_ + ": unknown key '" + k + "'" + set_in(k) + " (expected one of: " + known + ")");
     }
 }
 

@@ -73,7 +73,7 @@ std::vector<Factor> parse_factors(StrictObject& o) {
   std::vector<Factor> factors;
   std::set<std::string> labels;
   for (size_t i = 0; i < list.size(); ++i) {
-    StrictObject fo(list[i], o.where() + ".factors[" + std::to_string(i) + "]");
+    StrictObject fo = o.item("factors", i);
     Factor f;
     f.key = fo.text("key", std::nullopt);
     const auto parts = split(f.key);
@@ -124,6 +124,7 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
   };
   for (size_t d = 0; d < declarations.size(); ++d) {
     StrictObject o(declarations[d], where + ".sweep" + (sweep.is_array() ? "[" + std::to_string(d) + "]" : ""));
+    o.in_schema("experiment.sweep");
     const bool grid = o.text("mode", "one_at_a_time", {"one_at_a_time", "grid"}) == "grid";
     std::vector<std::string> keep;
     if (o.has("cases"))

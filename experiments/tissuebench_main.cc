@@ -45,11 +45,24 @@ int main(int argc, char** argv) {
   CLI::App app{"tissuebench: soft-tissue deformation models (fine FEM, PBD, hybrid) on shared scenarios"};
   app.require_subcommand(1);
 
+  // Third-party data files ("data:..." in scenario files) are read from the data
+  // directory (data_dir.h, README "Data").
+  const std::string data_help =
+      "data directory for the scenarios' data: files (default $TISSUEBENCH_DATA, else ../shared beside the "
+      "repository; now " +
+      tb::data_dir().path + ")";
+  std::string data_dir_flag;
+
   auto* run = app.add_subcommand("run", "Run a scenario or an experiment file and write results");
-  std::string scenario_file, out_dir = "results", only;
-  bool quiet = false;
+  std::string scenario_file, out_dir = tb::RunOptions{}.out_dir, only;
+  bool quiet = false, index_only = false;
   run->add_option("file", scenario_file, "scenario or experiment JSON")->required();
-  run->add_option("--out", out_dir, "results folder (default: results)");
+  run->add_option("--out", out_dir,
+                  "results folder (default: " + out_dir +
+                      "/ in the working folder; the committed results are regenerated with --out results)");
+  run->add_option("--data-dir", data_dir_flag, data_help);
+  run->add_flag("--index-only", index_only,
+                "write <out>/<experiment>/experiment.json (cases, their order, roles, reference) and nothing else");
   run->add_option("--model", only, "run only this case or model name");
   std::string only_scenario;
   run->add_option("--scenario", only_scenario, "run only the scenario of this name");
@@ -93,6 +106,14 @@ int main(int argc, char** argv) {
   int refine_levels = 0;
   mesh->add_option("--refine-levels", refine_levels, "split the surface's triangles in four this many times");
   mesh->add_option("--out", mesh_out, "output folder")->required();
+  mesh->add_option("--data-dir", data_dir_flag, data_help + "; --surface and --coarse may be data:<path> references");
+
+  auto* resolve = app.add_subcommand(
+      "resolve",
+      "Print a scenario or experiment file as the runner reads it: every scenario with every value resolved");
+  std::string resolve_file;
+  resolve->add_option("file", resolve_file, "scenario or experiment JSON")->required();
+  resolve->add_option("--data-dir", data_dir_flag, data_help);
 
   app.add_subcommand("models", "List the registered models and their parameters");
   app.add_subcommand("build-info", "Print the build (commit, compiler, flags of each library) and machine as JSON");
@@ -106,10 +127,20 @@ int main(int argc, char** argv) {
       std::cout << tb::build_and_machine_info().dump(2) << "\n";
       return 0;
     }
+    if (resolve->parsed()) {
+      if (!root) return 0;
+      const tb::Experiment e = tb::load_experiment(resolve_file, tb::data_dir(data_dir_flag));
+      nlohmann::json j = e.to_json();
+      j["scenarios_resolved"] = nlohmann::json::array();
+      for (const tb::Scenario& s : e.scenarios) j["scenarios_resolved"].push_back(s.to_json_with_models());
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
     if (run->parsed()) {
-      const tb::Experiment e = tb::load_experiment(scenario_file);
+      const tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag));
       tb::RunOptions opt;
       opt.out_dir = out_dir;
+      opt.index_only = index_only;
       opt.only_case = only;
       opt.only_scenario = only_scenario;
       opt.write_meshes = !no_mesh_output;
@@ -127,6 +158,10 @@ int main(int argc, char** argv) {
                               {"peak_rss_mib_sum", sum}};
       };
       const auto outcomes = tb::run_experiment(e, opt);
+      if (index_only) {
+        if (root) std::cerr << "tissuebench: " << out_dir << "/" << e.name << "/experiment.json written\n";
+        return 0;
+      }
       int failed = 0, ran = 0;
       for (const auto& o : outcomes) {
         ++ran;
@@ -156,18 +191,21 @@ int main(int argc, char** argv) {
         recipe = {{"type", "shape"}, {"shape", shape}};
         if (resolution_opt->count()) recipe["resolution"] = resolution;
       } else {
+        auto file = [](const std::string& f) {
+          return tb::is_data_reference(f) ? f : std::filesystem::absolute(f).string();
+        };
         recipe = {{"type", "files"},
-                  {"surface", std::filesystem::absolute(surface).string()},
+                  {"surface", file(surface)},
                   {"unit_scale", unit_scale},
                   {"repair_self_intersections", repair}};
-        if (!coarse.empty()) recipe["coarse"] = std::filesystem::absolute(coarse).string();
+        if (!coarse.empty()) recipe["coarse"] = file(coarse);
       }
       recipe["fine_tetgen"] = nlohmann::json::object();
       if (quality_opt->count()) recipe["fine_tetgen"]["radius_edge_ratio"] = quality;
       if (max_volume_opt->count()) recipe["fine_tetgen"]["max_volume"] = max_volume;
       if (target_opt->count()) recipe["coarse_selection"] = {{"target_nodes", target}};
       recipe["refine_levels"] = refine_levels;
-      const tb::MeshRecipe r = tb::parse_mesh_recipe(recipe, ".", "mesh options");
+      const tb::MeshRecipe r = tb::parse_mesh_recipe(recipe, ".", "mesh options", tb::data_dir(data_dir_flag));
       tb::MeshReport report;
       const tb::HybridMesh h = tb::build_mesh(r, report);
       tb::write_mesh_folder(mesh_out, h, report);

@@ -38,23 +38,23 @@ class Gates(unittest.TestCase):
 
     def test_holding_and_failing_thresholds(self):
         # hybrid is 0.5 x the reference: r = 1, relative L2 = 0.5.
-        ok, text = self.check([{"scenario": "cube-pull", "case": "hybrid", "metric": "rel_l2", "at_most": 0.51}])
+        ok, text = self.check([{"role": "cube_pull", "case": "hybrid", "metric": "rel_l2", "at_most": 0.51}])
         self.assertTrue(ok, text)
         self.assertIn("measured          0.5", text)
-        ok, text = self.check([{"scenario": "cube-pull", "case": "hybrid", "metric": "rel_l2", "at_most": 0.49}])
+        ok, text = self.check([{"role": "cube_pull", "case": "hybrid", "metric": "rel_l2", "at_most": 0.49}])
         self.assertFalse(ok, text)
         self.assertIn("FAIL", text)
-        ok, _ = self.check([{"scenario": "cube-pull", "case": "hybrid", "metric": "corr_uz", "at_least": 1.01}])
+        ok, _ = self.check([{"role": "cube_pull", "case": "hybrid", "metric": "corr_uz", "at_least": 1.01}])
         self.assertFalse(ok)
 
     def test_below_case(self):
-        ok, _ = self.check([{"scenario": "cube-pull", "case": "hybrid", "metric": "rel_l2", "below_case": "pbd"}])
+        ok, _ = self.check([{"role": "cube_pull", "case": "hybrid", "metric": "rel_l2", "below_case": "pbd"}])
         self.assertTrue(ok)
-        ok, _ = self.check([{"scenario": "cube-pull", "case": "pbd", "metric": "rel_l2", "below_case": "hybrid"}])
+        ok, _ = self.check([{"role": "cube_pull", "case": "pbd", "metric": "rel_l2", "below_case": "hybrid"}])
         self.assertFalse(ok)
 
     def test_identical_files(self):
-        gate = [{"scenario": "cube-push", "case": "pbd", "identical": ["top_surface.csv"]}]
+        gate = [{"role": "cube_push", "case": "pbd", "identical": ["top_surface.csv"]}]
         ok, _ = self.check(gate, self.again)
         self.assertTrue(ok)
         with open(os.path.join(self.again, "cube-push", "pbd", "top_surface.csv"), "a") as f:

@@ -1,6 +1,8 @@
 """Metrics on hand-made fields, and the table script on a small fixture (issue 7)."""
 import json
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -10,6 +12,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
 import metrics  # noqa: E402
+import results_index  # noqa: E402
 import table1  # noqa: E402
 import table2  # noqa: E402
 import table3  # noqa: E402
@@ -71,16 +74,17 @@ def write_case(root, scenario, case, rest, u, median, model=None):
         json.dump({"setup_ms": 1.0, "step": {"median_ms": median, "p95_ms": 2 * median}}, f)
 
 
-def write_fixture(exp, extra_cases=()):
-    """A paper-like results tree: four scenarios, the paper's cases plus `extra_cases`."""
+def write_fixture(exp, extra_cases=(), name_of=lambda kind, lc: f"{kind}-{lc}"):
+    """A paper-like results tree: four scenarios in the paper's roles (cube_pull ...),
+    named name_of(kind, load case), the paper's cases plus `extra_cases`."""
     rest = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]], float)
     ref = np.array([[0, 0, 4], [0, 0, 1], [0, 0, 2], [0, 0, 0]], float)
     cases = ["fem-direct", "fem-iterative", "pbd", "hybrid", *extra_cases]
     index = {"name": "paper", "reference": "fem-direct", "scenarios": []}
     for kind in ["cube", "liver"]:
         for lc in ["pull", "push"]:
-            s = f"{kind}-{lc}"
-            index["scenarios"].append({"name": s, "cases": cases})
+            s = name_of(kind, lc)
+            index["scenarios"].append({"name": s, "role": f"{kind}_{lc}", "cases": cases})
             write_case(exp, s, "fem-direct", rest, ref, 3.0, "fem")
             write_case(exp, s, "fem-iterative", rest, ref, 100.0, "fem")
             write_case(exp, s, "hybrid", rest, 0.5 * ref, 4.0)
@@ -115,9 +119,69 @@ class TableScripts(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             exp = os.path.join(tmp, "paper")
             write_fixture(exp)
-            os.unlink(os.path.join(exp, "experiment.json"))
+            index_path = os.path.join(exp, "experiment.json")
+            with open(index_path) as f:
+                index = json.load(f)
+            del index["reference"]
+            with open(index_path, "w") as f:
+                json.dump(index, f)
             with self.assertRaisesRegex(ValueError, "no reference case declared"):
                 table1.make(exp, os.path.join(tmp, "tables"))
+
+
+class ScenariosByRole(unittest.TestCase):
+    """The analysis finds the paper's scenarios by their role in experiment.json, never
+    by their names, and a partial or role-less experiment is a one-line error."""
+
+    def test_scenarios_are_found_by_role_whatever_their_names(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            plain, renamed = os.path.join(tmp, "plain", "paper"), os.path.join(tmp, "renamed", "paper")
+            write_fixture(plain)
+            # Names that say nothing, and in another order than the roles: push before pull.
+            write_fixture(renamed, name_of=lambda kind, lc: {"pull": "zz", "push": "aa"}[lc] + f"-{len(kind)}")
+            for module in (table1, table2, table3):
+                module.make(plain, os.path.join(tmp, "plain", "tables"))
+                module.make(renamed, os.path.join(tmp, "renamed", "tables"))
+            for name in ("table1", "table1_metrics", "table2", "table3", "table3_metrics"):
+                self.assertEqual(read(os.path.join(tmp, "plain", "tables", name + ".csv")),
+                                 read(os.path.join(tmp, "renamed", "tables", name + ".csv")), name)
+            exp = results_index.Experiment(renamed)
+            self.assertEqual(exp.scenario_name("cube_push"), "aa-4")
+            self.assertEqual(list(exp.by_role("liver_pull")), ["fem-direct", "fem-iterative", "pbd", "hybrid"])
+
+    def run_script(self, script, exp_dir, out):
+        return subprocess.run([sys.executable, os.path.join(ROOT, "analysis", script), exp_dir, out],
+                              capture_output=True, text=True)
+
+    def test_a_partial_experiment_is_a_one_line_error_naming_the_role_and_folder(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = os.path.join(tmp, "paper")
+            write_fixture(exp)
+            shutil.rmtree(os.path.join(exp, "cube-push"))  # only cube-pull (and the liver) ran
+            for script in ("table1.py", "table2.py", "time_vs_accuracy.py", "figure4.py", "reproduce.py"):
+                r = self.run_script(script, exp, os.path.join(tmp, "out"))
+                self.assertEqual(r.returncode, 2, script + ": " + r.stderr)
+                self.assertNotIn("Traceback", r.stderr, script)
+                self.assertEqual(len(r.stderr.strip().splitlines()), 1, script + ": " + r.stderr)
+                self.assertIn(f"{exp}: no results for role 'cube_push' (scenario 'cube-push')", r.stderr, script)
+            with self.assertRaisesRegex(results_index.ResultsError, "no results for role 'cube_push'"):
+                table1.make(exp, os.path.join(tmp, "tables"))
+
+    def test_an_experiment_without_roles_says_so(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = os.path.join(tmp, "paper")
+            write_fixture(exp)
+            index_path = os.path.join(exp, "experiment.json")
+            with open(index_path) as f:
+                index = json.load(f)
+            for s in index["scenarios"]:
+                del s["role"]
+            with open(index_path, "w") as f:
+                json.dump(index, f)
+            r = self.run_script("table3.py", exp, os.path.join(tmp, "out"))
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertNotIn("Traceback", r.stderr)
+            self.assertIn("experiment.json gives no scenario the role 'liver_pull' (roles: none;", r.stderr)
 
 
 class AnalysisReadsTheModelListFromResults(unittest.TestCase):

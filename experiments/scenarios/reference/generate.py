@@ -2,8 +2,9 @@
 """Writes the scenario files of the reference-convergence study (issue 13) and
 experiments/reference_convergence.json, which lists them.
 
-Every scenario is the paper's cube (experiments/scenarios/cube-pull.json: same
-surface, TetGen bounds, material, support), refined `refine_levels` times (the
+Every scenario is the paper's cube (it extends experiments/scenarios/cube-pull.json
+through ref.base.json: same surface, TetGen bounds, material, support, and what it
+changes is all the file says), refined `refine_levels` times (the
 surface's triangles split in four per level, the volume bound / 8), under the
 paper's point force or the same force as a uniform traction on a 5 mm disc, as
 one static solve (no ramp). Cases: the linear FEM with P1 and P2 elements and
@@ -39,7 +40,6 @@ judged from the smaller levels:
   2 and P2 on level 1 (605,541 and 612,255 dofs).
 
 """
-import copy
 import json
 import os
 
@@ -61,20 +61,30 @@ def case(name, parameters):
     return {"name": name, "model": "fem_distributed", "parameters": dict({"cg_tolerance": CG_TOLERANCE}, **parameters)}
 
 
-def scenario(base, level, direction, force, load):
-    s = copy.deepcopy(base)
+# What every reference scenario changes in the paper's cube (ref.base.json): one
+# static solve, no ramp; the steady-state tolerance back to its default (null
+# removes cube-pull.json's value).
+BASE = {
+    "extends": "../cube-pull.json",
+    "description": "The reference scenarios' common settings (ref-L*.json extend it): the paper's cube "
+    "(cube-pull.json) as one static solve, no load ramp",
+    "load": {"ramp_frames": 0},
+    "frames": {"max": 1, "static": 1, "steady_tolerance": None},
+}
+
+
+def scenario(level, direction, force, load):
     sign = "pull" if direction > 0 else "push"
     tag = "" if force == 1.0 else "-%gN" % force
-    s["name"] = "ref-L%d-%s-%s%s" % (level, sign, load, tag)
+    s = {"extends": "ref.base.json", "name": "ref-L%d-%s-%s%s" % (level, sign, load, tag)}
     s["description"] = (
         "Reference convergence (issue 13): the paper's cube refined %d times, %g N %s (%s) at the top centre%s"
         % (level, force, sign, "+z" if direction > 0 else "-z", ", a uniform traction on a %g mm disc" % (1000 * DISC_RADIUS) if load == "disc" else "")
     )
-    s["mesh"]["refine_levels"] = level
-    s["load"] = {"point": [0, 0, 0.1], "force": [0, 0, direction * force], "ramp_frames": 0}
+    s["mesh"] = {"refine_levels": level}
+    s["load"] = {"force": [0, 0, direction * force]}
     if load == "disc":
         s["load"]["disc_radius"] = DISC_RADIUS
-    s["frames"] = {"max": 1, "static": 1}
     key = ("pull" if direction > 0 else "push", load)
     models = [case("fem-p1", {"degree": 1})]
     if force == 1.0 and level in P2_LEVELS[key]:
@@ -85,8 +95,14 @@ def scenario(base, level, direction, force, load):
     return s
 
 
+def write(path, j):
+    with open(path, "w") as f:
+        json.dump(j, f, indent=2)
+        f.write("\n")
+
+
 def main():
-    base = json.load(open(os.path.join(ROOT, "experiments", "scenarios", "cube-pull.json")))
+    write(os.path.join(HERE, "ref.base.json"), BASE)
     files = []
     for level in range(4):
         for force in (1.0, 0.1):
@@ -95,11 +111,9 @@ def main():
                     key = ("pull" if direction > 0 else "push", load)
                     if level not in (P1_LEVELS[key] if force == 1.0 else NEO_LEVELS[key]):
                         continue  # at 0.1 N only the neo-Hookean comparison
-                    s = scenario(base, level, direction, force, load)
+                    s = scenario(level, direction, force, load)
                     name = s["name"] + ".json"
-                    with open(os.path.join(HERE, name), "w") as f:
-                        json.dump(s, f, indent=2)
-                        f.write("\n")
+                    write(os.path.join(HERE, name), s)
                     files.append("scenarios/reference/" + name)
     experiment = {
         "name": "reference_convergence",
@@ -107,9 +121,7 @@ def main():
         "neo-Hookean; written by experiments/scenarios/reference/generate.py, run by scripts/reference_convergence",
         "scenarios": files,
     }
-    with open(os.path.join(ROOT, "experiments", "reference_convergence.json"), "w") as f:
-        json.dump(experiment, f, indent=2)
-        f.write("\n")
+    write(os.path.join(ROOT, "experiments", "reference_convergence.json"), experiment)
     print("%d scenario files" % len(files))
 
 

@@ -1,0 +1,33 @@
+#include "file_schema.h"
+
+namespace tb {
+
+const std::map<std::string, std::vector<std::string>>& file_schema() {
+  static const std::map<std::string, std::vector<std::string>> schema = {
+      // "extends" and "reference" are read before the strict reading (scenario.cc).
+      {"scenario",
+       {"extends", "reference", "name", "description", "mesh", "material", "support", "load", "frames", "observe",
+        "output", "models"}},
+      {"scenario.mesh",
+       {"type", "side", "height", "nx", "ny", "nz", "symmetric_fine_volume", "shape", "resolution", "surface", "coarse",
+        "unit_scale", "repair_self_intersections", "control_points", "build_fine_volume", "refine_levels",
+        "fine_tetgen", "coarse_selection"}},
+      {"scenario.mesh.fine_tetgen", {"radius_edge_ratio", "max_volume"}},
+      {"scenario.mesh.coarse_selection",
+       {"target_nodes", "spacing", "feature_angle_deg", "min_dihedral_deg", "seed", "include_points"}},
+      {"scenario.material", {"youngs_modulus", "poisson_ratio", "density"}},
+      {"scenario.support", {"min", "max", "lowest_fraction"}},
+      {"scenario.load", {"at", "point", "force", "ramp_frames", "disc_radius"}},
+      {"scenario.frames", {"max", "static", "steady_tolerance", "divergence_factor"}},
+      {"scenario.observe", {"vertices", "top_tolerance"}},
+      {"scenario.output", {"series_every"}},
+      {"scenario.models[]", {"name", "model", "parameters"}},
+      {"experiment", {"name", "description", "reference", "scenarios", "models", "sweep"}},
+      {"experiment.scenarios[]", {"file", "role", "models_add"}},
+      {"experiment.sweep", {"mode", "cases", "factors"}},
+      {"experiment.sweep.factors[]", {"key", "label", "values", "value_names", "role"}},
+  };
+  return schema;
+}
+
+}  // namespace tb
