@@ -1,5 +1,7 @@
 """Regenerates every table and figure from raw results: one script per table and
-figure (table1.py ... time_vs_accuracy.py), each also runnable alone.
+figure (table1.py ... time_vs_accuracy.py), each also runnable alone. Writing into
+the repository's results/, it also copies the tables into README.md (short) and
+docs/paper_reproduction.md (in full): readme_tables.py.
 
 Usage: /usr/bin/python3 analysis/reproduce.py [results/paper] [results]
 """
@@ -35,7 +37,6 @@ if __name__ == "__main__":
             coarse_sweep.make(sweep_dir, out)
 
     results_index.main(make, "reproduce")
-    readme = os.path.join(os.path.dirname(HERE), "README.md")
     if os.path.abspath(out) == os.path.join(os.path.dirname(HERE), "results"):
-        readme_tables.update(tables, readme)  # README shows the committed results
+        readme_tables.update(tables)  # README.md and docs/paper_reproduction.md show the committed results
     print(f"tables in {tables}, figures in {figures}")
