@@ -1,4 +1,4 @@
-"""Accuracy gates (issue 12): checks an experiment's results against every gate in
+"""Accuracy gates (docs/usage.md): checks an experiment's results against every gate in
 a gates file, printing the measured value beside the threshold.
 
 Usage: /usr/bin/python3 analysis/gates.py RESULTS_DIR [GATES_JSON] [--repeat RESULTS_DIR_2]

@@ -2,7 +2,7 @@
 
 Every metric compares the same vertices (the observed set of the scenario: the
 top surface of the cube, every surface vertex of the liver), vertex by vertex.
-Correlation is blind to scale, so it is never reported alone (DESIGN.md).
+Correlation is blind to scale, so it is never reported alone (docs/design.md, "Metrics").
 """
 import csv
 

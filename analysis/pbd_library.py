@@ -1,4 +1,4 @@
-"""Against the PositionBasedDynamics library (issue 16): its per-frame time beside tissuebench's pbd model.
+"""Against the PositionBasedDynamics library (docs/pbd_library_comparison.md): its per-frame time beside tissuebench's pbd model.
 
 Usage: /usr/bin/python3 analysis/pbd_library.py [results/pbd_library] [results]
 Reads the comparison's raw files (docs/pbd_library_comparison.md: how they were measured; the recipe
@@ -153,7 +153,7 @@ def make(root, out_root):
                 "".join("| " + " | ".join(str(c) for c in r) + " |\n" for r in rs))
 
     md = (
-        "# The PositionBasedDynamics library against tissuebench's pbd model (issue 16)\n\n"
+        "# The PositionBasedDynamics library against tissuebench's pbd model\n\n"
         f"Machine: {b.get('cpu_model', '?')}, {b.get('hardware_threads', '?')} hardware threads; **check the "
         "load-average column**: about 1 is a quiet machine (the measured process itself), more means other jobs "
         "shared the cores and only the ratios are comparable. Measured as docs/pbd_library_comparison.md describes (tables by `analysis/pbd_library.py`). "
@@ -168,9 +168,9 @@ def make(root, out_root):
         f"({b['build_type']}, {b['compiler']}, commit {b['git_commit']}, {rows[0]['tb_isa']} kernels) is timed by "
         "its runner (timings.json, step_after_ramp): the whole pbd model step. Threads: the library's "
         "OMP_NUM_THREADS, tissuebench's `threads` parameter (its sweep here colour by colour, `domains` 1; its "
-        "spatial domains are faster on 2 threads: README, scaling). On a shared machine the 2-thread rows measure "
+        "spatial domains are faster on 2 threads: docs/scaling.md). On a shared machine the 2-thread rows measure "
         "the contention as much as the solvers: a 2-thread process seldom has both cores, and every colour ends "
-        "in a barrier (README, against the PositionBasedDynamics library). The fastest-frame ratio is the one "
+        "in a barrier (docs/pbd_library_comparison.md). The fastest-frame ratio is the one "
         "least disturbed by other jobs.\n\n"
         + md_table(header, body) +
         "\n## Same work?\n\n"

@@ -1,4 +1,4 @@
-"""A reference you can trust (issue 13): the fine FEM under refinement, element
+"""A reference you can trust (docs/reference_convergence.md): the fine FEM under refinement, element
 order, load model and material law, and table 1's models against every level.
 
 Usage: /usr/bin/python3 analysis/reference_convergence.py [results/reference_convergence] [results]

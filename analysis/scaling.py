@@ -1,4 +1,4 @@
-"""Scaling (issue 16): PBD and hybrid per-frame time against the surface size, threads and precision.
+"""Scaling (docs/scaling.md): PBD and hybrid per-frame time against the surface size, threads and precision.
 
 Usage: /usr/bin/python3 analysis/scaling.py [results/scaling] [results]
 Reads results/scaling/<scenario>/<case>/{run,timings}.json (experiments/scaling/*.json, run by

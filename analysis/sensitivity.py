@@ -1,4 +1,4 @@
-"""Table 1 under the paper's unstated choices (issue 12): every sweep point of the
+"""Table 1 under the paper's unstated choices (docs/paper_reproduction.md): every sweep point of the
 sensitivity experiment, each model against the fine FEM, and the question whether
 any combination gives the paper's table 1.
 

@@ -1,4 +1,4 @@
-"""The shapes experiment (issue 14): each model against fem-direct on the same shape.
+"""The shapes experiment (docs/shapes.md): each model against fem-direct on the same shape.
 
 Usage: /usr/bin/python3 analysis/shapes.py [results/shapes] [results]
 Reads results/shapes/<scenario>/<case>/ (experiments/shapes.json: six generated

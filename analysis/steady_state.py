@@ -1,4 +1,4 @@
-"""Steady-state studies (issue 14): which cases of an experiment (a sweep, e.g.
+"""Steady-state studies (docs/liver_steady_state.md): which cases of an experiment (a sweep, e.g.
 experiments/liver_steady.json, or a plain list of scenarios, e.g.
 experiments/shapes_steady.json) meet the runner's steady-state test, at which frame,
 how far from it the others end, whether the surface they settle in is inverted

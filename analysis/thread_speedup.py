@@ -1,4 +1,4 @@
-"""Two threads against one, from interleaved benchmark repetitions (issue 16).
+"""Two threads against one, from interleaved benchmark repetitions (docs/scaling.md).
 
 Usage: /usr/bin/python3 analysis/thread_speedup.py [results/benchmarks/thread_speedup.json] [results]
 Reads the Google Benchmark JSON scripts/thread_speedup wrote (BM_PbdFrameScaling and
@@ -19,7 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import table_io as tables  # noqa: E402
 
-TARGET = 1.7  # issue 16: two threads at least 1.7 x one thread at 10 000 vertices and above
+TARGET = 1.7  # the scaling study's target: two threads at least 1.7 x one thread at 10 000 vertices and above
 MODELS = {"BM_PbdFrameScaling": "pbd", "BM_HybridFrameScaling": "hybrid"}
 
 
@@ -94,7 +94,7 @@ def main():
              f"top-centre load), repetitions randomly interleaved so that one and two threads alternate; "
              f"median and minimum of the repetitions' mean frame time (wall clock); speed-up: the ratio "
              f"of the medians and of the minima (the second CPU of the VM is shared: two-thread "
-             f"repetitions fall into a fast and a slow cluster). Target {TARGET}x (issue 16). "
+             f"repetitions fall into a fast and a slow cluster). Target {TARGET}x (docs/scaling.md, 'Against the targets'). "
              f"Measured {ctx.get('date', '?')} on {ctx.get('tissuebench_cpu_model', '?')} "
              f"({ctx.get('num_cpus', '?')} CPUs), {ctx.get('tissuebench_build_type', '?')} build, "
              f"{ctx.get('tissuebench_compiler', '?')}, commit {ctx.get('tissuebench_git_commit', '?')}, "

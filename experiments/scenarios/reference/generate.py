@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Writes the scenario files of the reference-convergence study (issue 13) and
-experiments/reference_convergence.json, which lists them.
+"""Writes the scenario files of the reference-convergence study
+(docs/reference_convergence.md) and experiments/reference_convergence.json, which
+lists them.
 
 Every scenario is the paper's cube (it extends experiments/scenarios/cube-pull.json
 through ref.base.json: same surface, TetGen bounds, material, support, and what it
@@ -17,8 +18,8 @@ the neo-Hookean FEM with P1, all distributed (mpirun -np N), on these levels:
   push, disc    0             0             0
   0.1 N: the neo-Hookean cases and their linear P1 counterparts.
 
-Level 3 (10.3 million tets, 4.87 million P1 dofs) is the >= 10^6-dof solve of the
-issue. Scenarios are listed, and run, level by level.
+Level 3 (10.3 million tets, 4.87 million P1 dofs) is the study's >= 10^6-dof solve.
+Scenarios are listed, and run, level by level.
 
 Planned but dropped when the study was first run (2 cores shared with other
 jobs at a load average near 7, about 100 minutes of wall time for the study),
@@ -35,8 +36,8 @@ judged from the smaller levels:
 - Level 3 under the disc load and pushed, level 2 pushed under the disc, P2 on
   level 1 pushed, and level 1 pushed under the disc (used by nothing once the
   neo-Hookean level 1 push went): each level-3 solve takes tens of minutes here
-  and the one that stays (the point pull, np 1 and 2) is the one the issue asks
-  for and table 1 compares with. The disc load's finest solves are P1 on level
+  and the one that stays (the point pull, np 1 and 2) is the one the study set out
+  to run and table 1 compares with. The disc load's finest solves are P1 on level
   2 and P2 on level 1 (605,541 and 612,255 dofs).
 
 """
@@ -78,7 +79,7 @@ def scenario(level, direction, force, load):
     tag = "" if force == 1.0 else "-%gN" % force
     s = {"extends": "ref.base.json", "name": "ref-L%d-%s-%s%s" % (level, sign, load, tag)}
     s["description"] = (
-        "Reference convergence (issue 13): the paper's cube refined %d times, %g N %s (%s) at the top centre%s"
+        "Reference convergence (docs/reference_convergence.md): the paper's cube refined %d times, %g N %s (%s) at the top centre%s"
         % (level, force, sign, "+z" if direction > 0 else "-z", ", a uniform traction on a %g mm disc" % (1000 * DISC_RADIUS) if load == "disc" else "")
     )
     s["mesh"] = {"refine_levels": level}
@@ -117,8 +118,8 @@ def main():
                     files.append("scenarios/reference/" + name)
     experiment = {
         "name": "reference_convergence",
-        "description": "Issue 13: the fine FEM reference under refinement (P1, P2), point and disc loads, linear and "
-        "neo-Hookean; written by experiments/scenarios/reference/generate.py, run by scripts/reference_convergence",
+        "description": "The fine FEM reference under refinement (P1, P2), point and disc loads, linear and "
+        "neo-Hookean; written by experiments/scenarios/reference/generate.py, run by scripts/reference_convergence; docs/reference_convergence.md",
         "scenarios": files,
     }
     write(os.path.join(ROOT, "experiments", "reference_convergence.json"), experiment)
