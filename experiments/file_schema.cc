@@ -6,8 +6,8 @@ const std::map<std::string, std::vector<std::string>>& file_schema() {
   static const std::map<std::string, std::vector<std::string>> schema = {
       // "extends" and "reference" are read before the strict reading (scenario.cc).
       {"scenario",
-       {"extends", "reference", "name", "description", "mesh", "material", "support", "load", "frames", "observe",
-        "output", "models"}},
+       {"extends", "reference", "name", "description", "mesh", "material", "support", "load", "loads", "tools",
+        "probes", "frames", "observe", "output", "models"}},
       {"scenario.mesh",
        {"type", "side", "height", "nx", "ny", "nz", "symmetric_fine_volume", "shape", "resolution", "surface", "coarse",
         "unit_scale", "repair_self_intersections", "control_points", "build_fine_volume", "refine_levels",
@@ -18,6 +18,10 @@ const std::map<std::string, std::vector<std::string>>& file_schema() {
       {"scenario.material", {"youngs_modulus", "poisson_ratio", "density"}},
       {"scenario.support", {"min", "max", "lowest_fraction"}},
       {"scenario.load", {"at", "point", "force", "ramp_frames", "disc_radius"}},
+      {"scenario.loads[]", {"type", "point", "radius", "force", "g", "ramp_frames", "path"}},
+      {"scenario.tools[]", {"type", "point", "radius", "box", "mode", "normal", "displacement", "ramp_frames", "path"}},
+      {"scenario.tools[].box", {"min", "max"}},
+      {"scenario.probes", {"points", "file"}},
       {"scenario.frames", {"max", "static", "steady_tolerance", "divergence_factor"}},
       {"scenario.observe", {"vertices", "top_tolerance"}},
       {"scenario.output", {"series_every"}},

@@ -146,8 +146,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   out.case_name = run.case_name;
   const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
-  Problem problem{&mesh, s.material, s.load_case(), run.parameters};
-  check_supported(info, problem.load_case);  // an unsupported load stops here, before setup
+  Problem problem{&mesh, s.material, s.load_case(), run.parameters, s.probes};
+  check_supported(info, problem.load_case);  // an unsupported load or tool stops here, before setup
   std::unique_ptr<Model> model = info.create();
 
   const auto t0 = Clock::now();
@@ -177,7 +177,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
                       {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
     series << "    <DataSet timestep=\"" << frame << "\" file=\"" << name << "\"/>\n";
   };
-  const int budget = info.dynamic ? s.max_frames : std::max(s.static_frames, s.ramp_frames);
+  const int changing = s.changing_frames();
+  const int budget = info.dynamic ? s.max_frames : std::max(s.static_frames, changing);
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<size_t>(budget));
   std::vector<int> iterations;
@@ -187,6 +188,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   Displacements previous = Displacements::Zero(rest.rows(), 3);
   double last_change = 0;
   FrameLoads loads;
+  // The force on each tool and the support, per frame (Model::reaction_forces).
+  std::vector<std::vector<Eigen::Vector3d>> reactions;
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < budget; ++frame) {
     s.loads_at(frame, loads);
@@ -197,6 +200,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     iterations.push_back(model->last_iterations());
     for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k].second.push_back(model->last_phase_times()[k].ms);
     out.frames = frame + 1;
+    if (const auto* r = model->reaction_forces()) reactions.push_back(*r);
 
     const Displacements& u = model->surface_displacement();
     if (!u.allFinite())
@@ -215,7 +219,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     }
     last_change = (u - previous).rowwise().norm().maxCoeff();
     previous = u;
-    const bool steady = info.dynamic && frame + 1 >= s.ramp_frames && last_change <= s.steady_tolerance * max_u;
+    const bool steady = info.dynamic && frame + 1 >= changing && last_change <= s.steady_tolerance * max_u;
     if (write_series && (frame % s.series_every == 0 || steady)) snapshot(frame, u);
     if (steady) {
       out.steady_frame = frame;
@@ -223,7 +227,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     }
     progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
   }
-  if (!info.dynamic) out.steady_frame = std::max(0, s.ramp_frames - 1);
+  if (!info.dynamic) out.steady_frame = std::max(0, changing - 1);
   const nlohmann::json processes = opt.process_statistics ? opt.process_statistics() : nlohmann::json();
   if (!opt.write_outputs) {
     out.ok = true;
@@ -260,6 +264,22 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   j["max_displacement_m"] = u.rowwise().norm().maxCoeff();
   j["observed_vertices"] = s.observed;
   j["mesh"] = mesh_summary;
+  // What the model measured beside the surface, and how (or why not).
+  if (!s.tools.empty() || s.probes.rows() > 0) {
+    nlohmann::json& obs = j["observables"];
+    if (!s.tools.empty()) {
+      obs["tools_how"] = info.tools_how;
+      obs["reactions"] = model->reaction_forces()
+                             ? nlohmann::json{{"file", "reactions.csv"}, {"how", info.reactions}}
+                             : nlohmann::json{{"file", nullptr}, {"why_not", "model '" + info.name +
+                                                                                  "' does not measure reaction forces"}};
+    }
+    if (s.probes.rows() > 0)
+      obs["probes"] = model->probe_displacements()
+                          ? nlohmann::json{{"file", "probes.csv"}, {"how", info.probes}}
+                          : nlohmann::json{{"file", nullptr},
+                                           {"why_not", "model '" + info.name + "' has no volume to interpolate in"}};
+  }
   j["build"] = build_and_machine_info();
   write_file_atomically((staging / "run.json").string(), j.dump(2) + "\n");
 
@@ -267,7 +287,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   t["setup_ms"] = setup_ms;
   t["step"] = to_json(timing_stats(step_ms));
   // Frames after the load ramp, i.e. the frames of the steady load only.
-  const size_t skip = std::min(step_ms.size(), static_cast<size_t>(s.ramp_frames));
+  const size_t skip = std::min(step_ms.size(), static_cast<size_t>(changing));
   t["step_after_ramp"] =
       to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
   // Each named phase of a frame (STYLE.md 10), over the frames after the ramp.
@@ -285,6 +305,27 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   std::vector<int> all(static_cast<size_t>(rest.rows()));
   for (size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
   write_file_atomically((staging / "surface.csv").string(), csv_of(rest, u, all));
+  if (!s.tools.empty() && !reactions.empty()) {
+    // The force the tissue exerts on each tool and on the support, every frame (N).
+    std::ostringstream csv;
+    csv << std::setprecision(17) << "frame,constraint,kind,fx,fy,fz\n";
+    for (size_t f = 0; f < reactions.size(); ++f)
+      for (size_t k = 0; k < reactions[f].size(); ++k) {
+        const bool support = k == s.tools.size();
+        csv << f << ',' << (support ? "support" : s.tools[k].tool.key) << ','
+            << (support ? "support" : name(s.tools[k].tool.kind)) << ',' << reactions[f][k].x() << ','
+            << reactions[f][k].y() << ',' << reactions[f][k].z() << '\n';
+      }
+    write_file_atomically((staging / "reactions.csv").string(), csv.str());
+  }
+  if (const Points* probes = model->probe_displacements(); probes && s.probes.rows() > 0) {
+    std::ostringstream csv;
+    csv << std::setprecision(17) << "probe,x,y,z,ux,uy,uz\n";
+    for (Eigen::Index p = 0; p < s.probes.rows(); ++p)
+      csv << p << ',' << s.probes(p, 0) << ',' << s.probes(p, 1) << ',' << s.probes(p, 2) << ',' << (*probes)(p, 0)
+          << ',' << (*probes)(p, 1) << ',' << (*probes)(p, 2) << '\n';
+    write_file_atomically((staging / "probes.csv").string(), csv.str());
+  }
   SurfaceMesh deformed{rest + u, mesh.fine_surface.F};
   write_surface_vtu((staging / "surface.vtu").string(), deformed,
                     {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
@@ -319,6 +360,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
     if (!opt.only_scenario.empty() && opt.only_scenario != s.name) continue;
     // The same resolved recipe (file paths absolute) builds the same mesh: build it once.
     const std::string key = s.mesh.to_json().dump();
+    Scenario resolved;
     std::shared_ptr<HybridMesh> mesh;
     nlohmann::json summary;
     try {
@@ -358,6 +400,11 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
       // The meshes as built, for ParaView and figure 1.
       if (opt.write_outputs && opt.write_meshes)
         write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
+      // What the scenario places relative to the mesh, and checks that every case
+      // shares (tools that hold nothing, probes outside the body): before any case.
+      resolved = s;
+      resolve_on_mesh(resolved, mesh->fine_surface);
+      check_on_mesh(resolved, mesh->fine_surface);
     } catch (const std::exception& ex) {
       for (const ModelRun& run : s.models) {
         try {
@@ -371,11 +418,9 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         failed.error = ex.what();
         outcomes.push_back(failed);
       }
-      progress.line(s.name + ": FAILED building meshes: " + ex.what());
+      progress.line(s.name + ": FAILED preparing the scenario: " + ex.what());
       continue;
     }
-    Scenario resolved = s;
-    resolve_on_mesh(resolved, mesh->fine_surface);
     for (const ModelRun& run : s.models) {
       if (!opt.only_case.empty() && opt.only_case != run.case_name && opt.only_case != run.model) continue;
       CaseOutcome o;

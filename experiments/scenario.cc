@@ -1,5 +1,8 @@
 #include "scenario.h"
 
+#include "point_location.h"
+#include "tool_placement.h"
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -47,9 +50,17 @@ nlohmann::json Scenario::to_json() const {
                    {"density", material.density}};
   j["support"] = {{"min", vec(support.min)}, {"max", vec(support.max)}};
   if (support_lowest_fraction >= 0) j["support"]["lowest_fraction"] = support_lowest_fraction;
-  j["load"] = {
-      {"at", load_placement}, {"point", vec(load.point)}, {"force", vec(load.force)}, {"ramp_frames", ramp_frames}};
-  if (load_placement != "point") j["load"]["point_given"] = vec(load_point_given);
+  if (has_load) {
+    j["load"] = {
+        {"at", load_placement}, {"point", vec(load.point)}, {"force", vec(load.force)}, {"ramp_frames", ramp_frames}};
+    if (load_placement != "point") j["load"]["point_given"] = vec(load_point_given);
+  }
+  for (const ScenarioLoad& l : loads) j["loads"].push_back(tb::to_json(l));
+  for (const ScenarioTool& t : tools) j["tools"].push_back(tb::to_json(t));
+  if (probes.rows() > 0) {
+    j["probes"] = nlohmann::json::array();
+    for (Eigen::Index p = 0; p < probes.rows(); ++p) j["probes"].push_back(vec(probes.row(p).transpose()));
+  }
   j["frames"] = {{"max", max_frames},
                  {"static", static_frames},
                  {"steady_tolerance", steady_tolerance},
@@ -95,15 +106,57 @@ void resolve_on_mesh(Scenario& s, const SurfaceMesh& surface) {
 LoadCase Scenario::load_case() const {
   LoadCase c;
   c.support = support;
-  c.loads.push_back(load.disc_radius > 0 ? Load::surface_traction(load.point, load.disc_radius, "load")
-                                         : Load::point_force(load.point, "load"));
+  if (has_load)
+    c.loads.push_back(load.disc_radius > 0 ? Load::surface_traction(load.point, load.disc_radius, "load")
+                                           : Load::point_force(load.point, "load"));
+  for (const ScenarioLoad& l : loads) c.loads.push_back(l.load);
+  for (const ScenarioTool& t : tools) c.tools.push_back(t.tool);
   return c;
 }
 
+int Scenario::changing_frames() const {
+  int n = has_load ? ramp_frames : 0;
+  const auto frames_of = [](const Schedule& s) { return s.path.empty() ? s.ramp_frames : s.path.back().first + 1; };
+  for (const ScenarioLoad& l : loads) n = std::max(n, frames_of(l.schedule));
+  for (const ScenarioTool& t : tools) n = std::max(n, frames_of(t.schedule));
+  return n;
+}
+
+void check_on_mesh(const Scenario& s, const SurfaceMesh& surface) {
+  const std::string where = fs::path(s.file).filename().string() + ": ";
+  for (const ScenarioTool& t : s.tools) try {
+      tool_vertices(t.tool, surface, s.support);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(where + e.what());
+    }
+  std::ostringstream outside;
+  int count = 0;
+  for (Eigen::Index p = 0; p < s.probes.rows(); ++p) {
+    const Eigen::Vector3d x = s.probes.row(p).transpose();
+    if (winding_number(surface, x) >= 0.5) continue;
+    double d = std::numeric_limits<double>::infinity();
+    for (Eigen::Index f = 0; f < surface.F.rows(); ++f)
+      d = std::min(d, point_triangle_distance(x, surface.V.row(surface.F(f, 0)), surface.V.row(surface.F(f, 1)),
+                                              surface.V.row(surface.F(f, 2))));
+    outside << (count++ ? "; " : "") << "probes[" << p << "] (" << x.x() << ", " << x.y() << ", " << x.z() << ") by "
+            << d << " m";
+  }
+  if (count > 0)
+    throw std::invalid_argument(where + "probes: " + std::to_string(count) + " point(s) outside the body: " +
+                                outside.str());
+}
+
 void Scenario::loads_at(int frame, FrameLoads& out) const {
-  out.values.resize(1);
-  out.values[0] = load.force;
-  if (ramp_frames > 0 && frame < ramp_frames) out.values[0] *= static_cast<double>(frame + 1) / ramp_frames;
+  out.values.resize((has_load ? 1 : 0) + loads.size());
+  size_t k = 0;
+  if (has_load) {
+    out.values[k] = load.force;
+    if (ramp_frames > 0 && frame < ramp_frames) out.values[k] *= static_cast<double>(frame + 1) / ramp_frames;
+    ++k;
+  }
+  for (const ScenarioLoad& l : loads) out.values[k++] = l.schedule.at(frame);
+  out.tool_values.resize(tools.size());
+  for (size_t t = 0; t < tools.size(); ++t) out.tool_values[t] = tools[t].schedule.at(frame);
 }
 
 namespace {
@@ -280,19 +333,27 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
   }
   sup.finish();
 
-  // Load point: as given, the highest surface vertex, or the surface vertex
+  // The paper's load (optional when "loads" or "tools" say what drives the body).
+  // Its point: as given, the highest surface vertex, or the surface vertex
   // nearest a given point (resolved on the mesh by resolve_on_mesh).
-  StrictObject l = o.object("load");
-  s.load_placement = l.text("at", s.load_placement, {"point", "highest_surface_vertex", "nearest_surface_vertex"});
-  if (s.load_placement == "highest_surface_vertex") {
-    if (l.has("point")) l.fail("point", "not used with at = highest_surface_vertex");
-  } else {
-    s.load.point = l.vec3("point", std::nullopt);
+  s.has_load = o.has("load");
+  if (!s.has_load && !o.has("loads") && !o.has("tools")) o.fail("load", "missing: give load, loads or tools");
+  StrictObject l = o.object("load", true);
+  if (s.has_load) s.load_placement = l.text("at", s.load_placement, {"point", "highest_surface_vertex", "nearest_surface_vertex"});
+  if (s.has_load) {
+    if (s.load_placement == "highest_surface_vertex") {
+      if (l.has("point")) l.fail("point", "not used with at = highest_surface_vertex");
+    } else {
+      s.load.point = l.vec3("point", std::nullopt);
+    }
+    s.load.force = l.vec3("force", std::nullopt);
+    s.ramp_frames = l.integer("ramp_frames", s.ramp_frames, 0, 1000000);
+    s.load.disc_radius = l.number("disc_radius", s.load.disc_radius, 0, 1e9);  // m; 0: the paper's point load
   }
-  s.load.force = l.vec3("force", std::nullopt);
-  s.ramp_frames = l.integer("ramp_frames", s.ramp_frames, 0, 1000000);
-  s.load.disc_radius = l.number("disc_radius", s.load.disc_radius, 0, 1e9);  // m; 0: the paper's point load
   l.finish();
+  s.loads = parse_loads(o);
+  s.tools = parse_tools(o);
+  s.probes = parse_probes(o, base);
 
   StrictObject f = o.object("frames", true);
   s.max_frames = f.integer("max", s.max_frames, 1, 100000000);

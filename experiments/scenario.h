@@ -8,6 +8,7 @@
 
 #include "data_dir.h"
 #include "mesh_recipe.h"
+#include "scenario_tools.h"
 #include "model.h"
 
 namespace tb {
@@ -41,10 +42,14 @@ struct Scenario {
   Material material;
   SupportBox support;
   double support_lowest_fraction = -1;   ///< >= 0: support = the lowest fraction of the height (resolve_on_mesh)
+  bool has_load = true;                  ///< the file gives the paper's `load`
   PointLoad load;                        ///< the full load
   std::string load_placement = "point";  ///< "point", "highest_surface_vertex" or "nearest_surface_vertex"
   Eigen::Vector3d load_point_given = Eigen::Vector3d::Zero();  ///< nearest_surface_vertex: the point given
   int ramp_frames = 0;                                         ///< load scaled by (frame + 1) / ramp_frames until then
+  std::vector<ScenarioLoad> loads;  ///< "loads": after `load`, in file order
+  std::vector<ScenarioTool> tools;  ///< "tools", in file order
+  Points probes = Points(0, 3);     ///< "probes": #P by 3 interior points
   int max_frames = 2000;                                       ///< frame budget of dynamic models
   int static_frames = 20;                                      ///< frames of static models (timing samples)
   double steady_tolerance = 1e-6;                              ///< max per-frame change / max displacement
@@ -61,8 +66,12 @@ struct Scenario {
   /// The support and the loads as every model receives them (load_case.h); call
   /// resolve_on_mesh first when the scenario places them relative to the mesh.
   LoadCase load_case() const;
-  /// Each load's value at frame `frame` (0-based): ramped, then constant. No
-  /// allocation once `out` has its size.
+  /// Frames during which some load's or tool's value still changes (the longest
+  /// ramp or path): static models run at least these, dynamic ones test for the
+  /// steady state only after them.
+  int changing_frames() const;
+  /// Each load's and tool's value at frame `frame` (0-based), by its schedule. No
+  /// allocation once `out` has its sizes.
   void loads_at(int frame, FrameLoads& out) const;
   /// Every value as resolved, defaults included (run.json "scenario_resolved");
   /// the model list is not included (each run.json holds its own model).
@@ -77,6 +86,12 @@ struct Scenario {
 /// surface) and the load point of load.at. Called by the runner once the meshes
 /// are built; a scenario with a plain box and point is unchanged.
 void resolve_on_mesh(Scenario& scenario, const SurfaceMesh& surface);
+
+/// Checks what the scenario places on its mesh before any case runs: each tool
+/// holds at least one surface vertex and none in the support (tool_placement.h),
+/// and each probe lies inside the fine surface. Throws std::invalid_argument naming
+/// the scenario key (probes outside: each listed with its distance to the surface).
+void check_on_mesh(const Scenario& scenario, const SurfaceMesh& surface);
 
 struct Experiment {
   std::string name;

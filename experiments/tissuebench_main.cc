@@ -21,6 +21,14 @@ namespace {
 int command_models() {
   for (const auto& m : tb::registered_models()) {
     std::cout << m.name << (m.dynamic ? " (dynamic)" : " (static)") << ": " << m.description << "\n";
+    std::cout << "  loads:";
+    for (tb::LoadKind k : m.loads) std::cout << " " << tb::name(k);
+    std::cout << "\n  tools:";
+    for (tb::ToolKind k : m.tools) std::cout << " " << tb::name(k);
+    if (m.tools.empty()) std::cout << " none";
+    std::cout << (m.tools_how.empty() ? "" : " (" + m.tools_how + ")") << "\n";
+    std::cout << "  reaction forces: " << (m.reactions.empty() ? "not measured" : m.reactions) << "\n";
+    std::cout << "  interior probes: " << (m.probes.empty() ? "none (no volume)" : m.probes) << "\n";
     for (const auto& p : m.parameters) {
       std::cout << "  " << p.name << " = ";
       if (!p.is_choice())

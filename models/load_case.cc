@@ -26,4 +26,34 @@ Load Load::surface_traction(const Eigen::Vector3d& centre, double radius, std::s
 
 Load Load::body_force(std::string key) { return Load{LoadKind::BodyForce, std::move(key), Eigen::Vector3d::Zero(), 0}; }
 
+const char* name(ToolKind kind) {
+  switch (kind) {
+    case ToolKind::Grasp:
+      return "grasp";
+    case ToolKind::BondedPlate:
+      return "bonded_plate";
+    case ToolKind::SlidingPlate:
+      return "sliding_plate";
+  }
+  return "unknown";
+}
+
+Tool Tool::grasp(const Eigen::Vector3d& point, double radius, std::string key) {
+  Tool t;
+  t.kind = ToolKind::Grasp;
+  t.key = std::move(key);
+  t.point = point;
+  t.radius = radius;
+  return t;
+}
+
+Tool Tool::plate(const SupportBox& box, bool sliding, int normal_axis, std::string key) {
+  Tool t;
+  t.kind = sliding ? ToolKind::SlidingPlate : ToolKind::BondedPlate;
+  t.key = std::move(key);
+  t.box = box;
+  t.normal_axis = normal_axis;
+  return t;
+}
+
 }  // namespace tb

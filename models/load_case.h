@@ -5,9 +5,13 @@
 // allocation; ModelInfo::loads says which kinds it takes, and any other is one
 // error before setup (check_supported).
 //
+// Tools prescribe where part of the surface is (a grasp, a plate); each holds the
+// surface vertices it catches at setup and moves them by its value every frame.
+//
 // A new kind of load is: its LoadKind and name below, how it is placed (Load), and
 // its mapping onto nodes in models/numerics/embedding/load_mapping.h; then each
-// model that takes it lists it in its ModelInfo (docs/extending.md).
+// model that takes it lists it in its ModelInfo (docs/extending.md). A new tool
+// kind the same, with tool_placement.h.
 #pragma once
 
 #include <Eigen/Core>
@@ -58,19 +62,46 @@ struct Load {
   static Load body_force(std::string key = "gravity");
 };
 
+/// What a tool does to the surface, and so what its value each frame means.
+enum class ToolKind {
+  Grasp,         ///< the surface vertices within a radius of a point, bonded; value: their displacement (m)
+  BondedPlate,   ///< the surface vertices in a box, bonded to a rigid plate; value: its displacement (m)
+  SlidingPlate,  ///< the same, frictionless: only the component along the plate's normal axis is held
+};
+inline constexpr ToolKind kToolKinds[] = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
+/// "grasp", "bonded_plate", "sliding_plate".
+const char* name(ToolKind kind);
+
+/// A tool as placed in the rest configuration, fixed for the run: the surface
+/// vertices it holds are chosen once (tool_vertices in tool_placement.h).
+struct Tool {
+  ToolKind kind = ToolKind::Grasp;
+  std::string key = "tools[0]";  ///< where the scenario states it: named in every error about it
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< Grasp: the grasped surface point (m)
+  double radius = 0;                                ///< Grasp: vertices within this distance of `point` (m)
+  SupportBox box;                                   ///< Plate: vertices whose rest position is in the box
+  int normal_axis = 2;                              ///< SlidingPlate: 0, 1, 2 for x, y, z
+
+  static Tool grasp(const Eigen::Vector3d& point, double radius, std::string key = "tools[0]");
+  static Tool plate(const SupportBox& box, bool sliding, int normal_axis = 2, std::string key = "tools[0]");
+};
+
 /// Everything a run holds fixed about the boundary-value problem.
 struct LoadCase {
   SupportBox support;
   std::vector<Load> loads;
+  std::vector<Tool> tools;
 };
 
-/// One frame's value of every load of the LoadCase, in its order: a force (N) for
-/// PointForce and SurfaceTraction, an acceleration (m/s^2) for BodyForce.
+/// One frame's value of every load and tool of the LoadCase, in its order: a force
+/// (N) for PointForce and SurfaceTraction, an acceleration (m/s^2) for BodyForce;
+/// a displacement (m) for every tool.
 struct FrameLoads {
   std::vector<Eigen::Vector3d> values;
+  std::vector<Eigen::Vector3d> tool_values;
 };
 
 /// `values` for a LoadCase of one load (tests, benchmarks).
-inline FrameLoads frame_of(const Eigen::Vector3d& value) { return FrameLoads{{value}}; }
+inline FrameLoads frame_of(const Eigen::Vector3d& value) { return FrameLoads{{value}, {}}; }
 
 }  // namespace tb

@@ -21,8 +21,11 @@ namespace tb {
 struct Problem {
   const HybridMesh* mesh = nullptr;
   Material material;
-  LoadCase load_case;     ///< the support and the loads, placed in the rest configuration
+  LoadCase load_case;     ///< the support, the loads and the tools, placed in the rest configuration
   Parameters parameters;  ///< the model's own, resolved against its specs
+  /// #P by 3 interior points whose displacement is observed (a tumour, a bead);
+  /// inside the body (the runner checks).
+  Points probes;
 };
 
 /// #V_surface by 3 displacements of the fine-surface vertices.
@@ -57,6 +60,13 @@ class Model {
   virtual void step(const FrameLoads& loads) = 0;
   /// Displacement of every fine-surface vertex after the last step.
   virtual const Displacements& surface_displacement() const = 0;
+  /// After step(): the force the tissue exerts on each tool (LoadCase::tools order)
+  /// and then on the support, N: #tools + 1. Null when the model does not measure
+  /// it (ModelInfo::reactions is empty).
+  virtual const std::vector<Eigen::Vector3d>* reaction_forces() const { return nullptr; }
+  /// After step(): the displacement at each Problem::probes point (#P by 3). Null
+  /// when the model has no volume to interpolate in (ModelInfo::probes is empty).
+  virtual const Points* probe_displacements() const { return nullptr; }
   /// Solver iterations in the last step, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
   /// Facts about how the model set itself up and maps the load (strategies chosen,
@@ -82,7 +92,15 @@ struct ModelInfo {
   std::vector<ParameterSpec> parameters;
   std::function<std::unique_ptr<Model>()> create;
   std::vector<LoadKind> loads = {LoadKind::PointForce};  ///< the kinds of load it takes
+  std::vector<ToolKind> tools;                           ///< the kinds of tool it takes
+  /// How it holds a tool's surface (written in run.json and `tissuebench models`).
+  std::string tools_how;
+  /// How it measures the reaction forces; empty: it does not (reaction_forces() null).
+  std::string reactions;
+  /// How it gives interior probes' displacements; empty: it has no volume.
+  std::string probes;
   bool takes(LoadKind kind) const;
+  bool takes(ToolKind kind) const;
 };
 
 /// Every model, in one explicit list (models/registry.cc). The first call checks
@@ -95,8 +113,8 @@ const ModelInfo& find_model(const std::string& name);
 void validate_registry(const std::vector<ModelInfo>& models);
 
 /// Throws std::invalid_argument, before anything is set up, when `model` does not
-/// take a load of `load_case`: "model 'pbd' does not take surface_traction loads
-/// (loads[1]); it takes point_force, body_force".
+/// take a load or a tool of `load_case`: "model 'pbd' does not take
+/// surface_traction loads (loads[1]); it takes point_force, body_force".
 void check_supported(const ModelInfo& model, const LoadCase& load_case);
 
 }  // namespace tb

@@ -46,14 +46,30 @@ bool ModelInfo::takes(LoadKind kind) const {
   return false;
 }
 
+bool ModelInfo::takes(ToolKind kind) const {
+  for (ToolKind k : tools)
+    if (k == kind) return true;
+  return false;
+}
+
+namespace {
+
+template <class Kind>
+[[noreturn]] void refuse(const ModelInfo& model, Kind kind, const std::string& key, const std::vector<Kind>& takes,
+                         const char* what) {
+  std::string list;
+  for (Kind k : takes) list += (list.empty() ? "" : ", ") + std::string(name(k));
+  throw std::invalid_argument("model '" + model.name + "' does not take " + name(kind) + " " + what + " (" + key +
+                              "); it takes " + (list.empty() ? "none" : list));
+}
+
+}  // namespace
+
 void check_supported(const ModelInfo& model, const LoadCase& load_case) {
-  for (const Load& load : load_case.loads) {
-    if (model.takes(load.kind)) continue;
-    std::string takes;
-    for (LoadKind k : model.loads) takes += (takes.empty() ? "" : ", ") + std::string(name(k));
-    throw std::invalid_argument("model '" + model.name + "' does not take " + name(load.kind) + " loads (" + load.key +
-                                "); it takes " + (takes.empty() ? "none" : takes));
-  }
+  for (const Load& load : load_case.loads)
+    if (!model.takes(load.kind)) refuse(model, load.kind, load.key, model.loads, "loads");
+  for (const Tool& tool : load_case.tools)
+    if (!model.takes(tool.kind)) refuse(model, tool.kind, tool.key, model.tools, "tools");
 }
 
 const ModelInfo& find_model(const std::string& name) {

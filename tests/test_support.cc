@@ -14,7 +14,7 @@ namespace tb::testing {
 std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
                                     const nlohmann::json& parameters, const std::vector<Load>& loads) {
   const ModelInfo& info = find_model(name);
-  Problem p{&mesh, Material{}, LoadCase{support, loads}, resolve_parameters(info.parameters, parameters, name)};
+  Problem p{&mesh, Material{}, LoadCase{support, loads, {}}, resolve_parameters(info.parameters, parameters, name), Points()};
   auto m = info.create();
   m->setup(p);
   return m;

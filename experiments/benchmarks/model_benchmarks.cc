@@ -158,7 +158,7 @@ std::unique_ptr<Model> make_model(const std::string& name, const HybridMesh& mes
   const ModelInfo& info = find_model(name);
   for (const ParameterSpec& spec : info.parameters)  // PBD iterations, for the models that have them
     if (spec.name == "iterations") parameters["iterations"] = iterations;
-  Problem p{&mesh, Material{}, LoadCase{support, loads}, resolve_parameters(info.parameters, parameters, name)};
+  Problem p{&mesh, Material{}, LoadCase{support, loads, {}}, resolve_parameters(info.parameters, parameters, name), Points()};
   auto m = info.create();
   m->setup(p);
   return m;

@@ -4,11 +4,12 @@
 #include <stdexcept>
 
 #include "coarse_embedding.h"
+#include "coarse_fem.h"
 #include "elastic_body.h"
-#include "elastic_solve.h"
 #include "load_placement.h"
 #include "pbd_solver.h"
 #include "precomputed_response.h"
+#include "tool_placement.h"
 
 namespace tb {
 namespace {
@@ -26,6 +27,8 @@ class HybridModel : public Model {
     exact_control_points_ = p.parameters.choice("control_points") == "exact_fine_fem";
     try {
       if (exact_control_points_) {
+        if (!p.load_case.tools.empty())
+          throw std::invalid_argument("control_points exact_fine_fem takes no tools (" + p.load_case.tools[0].key + ")");
         if (h.fine_volume.T.rows() == 0)
           throw std::invalid_argument("control_points exact_fine_fem needs the scenario's fine volume mesh");
         fine_body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
@@ -39,23 +42,30 @@ class HybridModel : public Model {
         exact_ = std::make_unique<PrecomputedResponse>(*fine_body_, control_nodes);
         exact_->prepare(*fine_loads_);
       } else {
-        coarse_body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material,
-                                                     p.load_case.support.clamp(h.coarse_volume.V, "coarse volume"));
-        coarse_ = make_elastic_solve(*coarse_body_, p.parameters, "coarse_");
-        coarse_u_ = Eigen::VectorXd::Zero(coarse_body_->dofs());
         // The loads on the coarse FEM: a point force by the P1 weights of the coarse
         // tet holding the point (the nearest one: the coarse hull may lie inside a
         // curved surface), or, as a study factor, all on the nearest coarse node.
         const PointInVolume rule = p.parameters.choice("coarse_load") == "nearest_node" ? PointInVolume::NearestNode
                                                                                           : PointInVolume::Nearest;
-        coarse_loads_ = std::make_unique<BodyLoads>(
-            *coarse_body_, place_on_volume(p.load_case.loads, {&h.coarse_volume, "coarse volume", &h.fine_surface,
-                                                               nullptr, p.material.density, rule}));
+        coarse_ = std::make_unique<CoarseFem>(p, rule);
       }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("hybrid: coarse mesh: ") + e.what());
     }
-    control_ = h.control_points;
+    // Tools hold their surface vertices on the PBD surface too, pinned at rest plus
+    // the tool's displacement (a sliding plate is not realised on the surface);
+    // a control point a tool holds follows the tool.
+    std::vector<char> held(static_cast<size_t>(h.fine_surface.V.rows()), 0);
+    tool_vertices_.clear();
+    for (const Tool& tool : p.load_case.tools) {
+      if (tool.kind == ToolKind::SlidingPlate)
+        throw std::invalid_argument("hybrid: " + tool.key + ": a sliding plate is not realised on the PBD surface");
+      tool_vertices_.push_back(tool_vertices(tool, h.fine_surface, p.load_case.support));
+      for (int v : tool_vertices_.back()) held[static_cast<size_t>(v)] = 1;
+    }
+    control_.clear();
+    for (const ControlPoint& cp : h.control_points)
+      if (!held[static_cast<size_t>(cp.surface_vertex)]) control_.push_back(cp);
     // surface_support coarse_fem: the surface vertices the support box holds follow
     // the coarse FEM, pinned like control points, instead of staying at rest. The
     // box clamps the coarse mesh at its own nodes only, so the coarse body can move
@@ -68,7 +78,8 @@ class HybridModel : public Model {
       const std::vector<char> supported = p.load_case.support.select(h.fine_surface.V);
       std::vector<int> extra;
       for (Eigen::Index v = 0; v < h.fine_surface.V.rows(); ++v)
-        if (supported[static_cast<size_t>(v)] && !is_control[static_cast<size_t>(v)]) extra.push_back(static_cast<int>(v));
+        if (supported[static_cast<size_t>(v)] && !is_control[static_cast<size_t>(v)] && !held[static_cast<size_t>(v)])
+          extra.push_back(static_cast<int>(v));
       Points at(static_cast<Eigen::Index>(extra.size()), 3);
       for (size_t k = 0; k < extra.size(); ++k) at.row(static_cast<Eigen::Index>(k)) = h.fine_surface.V.row(extra[k]);
       std::vector<ControlPoint> embedded = embed_vertices(at, h.coarse_volume);
@@ -86,6 +97,11 @@ class HybridModel : public Model {
       fixed[static_cast<size_t>(cp.surface_vertex)] = 1;  // never moved by the projection
       pinned_.push_back(cp.surface_vertex);
     }
+    for (const std::vector<int>& vertices : tool_vertices_)
+      for (int v : vertices) {
+        fixed[static_cast<size_t>(v)] = 1;
+        pinned_.push_back(v);
+      }
     pinned_positions_ = Points::Zero(static_cast<Eigen::Index>(pinned_.size()), 3);
     solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, fixed),
                                             pbd::Settings::from(p.parameters, p.material));
@@ -108,14 +124,17 @@ class HybridModel : public Model {
       exact_->apply(*fine_loads_, loads.values, control_u_);
       t1 = Clock::now();
     } else {
-      coarse_->solve(*coarse_loads_, loads.values, coarse_u_);
+      coarse_->step(loads);
       t1 = Clock::now();
-      interpolate_embedded(control_, coarse_body_->mesh().T, coarse_u_, control_u_);
+      interpolate_embedded(control_, coarse_->body().mesh().T, coarse_->displacement(), control_u_);
     }
     const Points& rest = solver_->rest_positions();
     for (size_t k = 0; k < control_.size(); ++k)
       pinned_positions_.row(static_cast<Eigen::Index>(k)) =
           rest.row(control_[k].surface_vertex) + control_u_.row(static_cast<Eigen::Index>(k));
+    Eigen::Index row = static_cast<Eigen::Index>(control_.size());
+    for (size_t t = 0; t < tool_vertices_.size(); ++t)
+      for (int v : tool_vertices_[t]) pinned_positions_.row(row++) = rest.row(v) + loads.tool_values[t].transpose();
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
     const auto t2 = Clock::now();
@@ -130,6 +149,10 @@ class HybridModel : public Model {
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override {
+    return coarse_ ? &coarse_->reactions() : nullptr;
+  }
+  const Points* probe_displacements() const override { return coarse_ ? &coarse_->probe_displacements() : nullptr; }
   /// The coarse solve's iterations (CG, corotational updates; 0 for the direct
   /// solve and the exact_fine_fem ablation), as the embedded model reports them.
   int last_iterations() const override { return coarse_ ? coarse_->last_iterations() : 0; }
@@ -142,8 +165,7 @@ class HybridModel : public Model {
     }
     r["control_points"] = "coarse_fem";
     if (supported_following_coarse_ > 0) r["supported_vertices_following_coarse_fem"] = supported_following_coarse_;
-    r["coarse_solve"] = coarse_->report();
-    if (coarse_loads_->size() > 0) r["load_distance_to_coarse_mesh_m"] = coarse_loads_->load(0).distance;
+    coarse_->report(r);
     return r;
   }
 
@@ -157,11 +179,9 @@ class HybridModel : public Model {
   std::unique_ptr<BodyLoads> fine_loads_;       // exact_fine_fem only
   std::unique_ptr<PrecomputedResponse> exact_;  // exact_fine_fem only
   Points control_u_;                            // #control points by 3
-  std::unique_ptr<ElasticBody> coarse_body_;
-  std::unique_ptr<ElasticSolve> coarse_;
-  std::unique_ptr<BodyLoads> coarse_loads_;
-  Eigen::VectorXd coarse_u_;
+  std::unique_ptr<CoarseFem> coarse_;
   std::vector<ControlPoint> control_;
+  std::vector<std::vector<int>> tool_vertices_;  // per tool: the surface vertices it pins
   std::vector<int> pinned_;
   Points pinned_positions_;
   std::unique_ptr<pbd::Solver> solver_;
@@ -203,6 +223,13 @@ ModelInfo hybrid_model_info() {
   m.parameters = specs;
   m.create = [] { return std::make_unique<HybridModel>(); };
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  describe_coarse_fem(m);
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate};
+  m.tools_how = "the coarse FEM holds the coarse nodes nearest the tool's surface vertices (Dirichlet values); PBD "
+                "pins the surface vertices themselves at rest plus the tool's displacement (eq. 33), a control point "
+                "among them following the tool. Not with control_points exact_fine_fem; no sliding plate";
+  m.reactions = "the coarse FEM's f - K u at the held coarse dofs (the elastic part of the hybrid; PBD's surface "
+                "carries no force units)";
   return m;
 }
 

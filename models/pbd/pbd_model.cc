@@ -4,6 +4,7 @@
 
 #include "load_placement.h"
 #include "pbd_solver.h"
+#include "tool_placement.h"
 
 namespace tb {
 namespace {
@@ -12,9 +13,19 @@ class PbdModel : public Model {
  public:
   void setup(const Problem& p) override {
     const SurfaceMesh& s = p.mesh->fine_surface;
-    solver_ = std::make_unique<pbd::Solver>(
-        s, pbd::inverse_masses(s, p.material.density, p.load_case.support.clamp(s.V, "fine surface")),
-        pbd::Settings::from(p.parameters, p.material));
+    // Tools pin the surface vertices they hold (inverse mass 0) at rest plus their
+    // displacement each frame (eq. 33, as the hybrid's control points).
+    std::vector<char> fixed = p.load_case.support.clamp(s.V, "fine surface");
+    for (const Tool& tool : p.load_case.tools) {
+      tool_vertices_.push_back(tool_vertices(tool, s, p.load_case.support));
+      for (int v : tool_vertices_.back()) {
+        fixed[static_cast<size_t>(v)] = 1;
+        pinned_.push_back(v);
+      }
+    }
+    pinned_positions_ = Points::Zero(static_cast<Eigen::Index>(pinned_.size()), 3);
+    solver_ = std::make_unique<pbd::Solver>(s, pbd::inverse_masses(s, p.material.density, fixed),
+                                            pbd::Settings::from(p.parameters, p.material));
     // Eq. (31): a point force on the nearest surface vertex (the paper) or triangle
     // (load_spread); a traction on its disc's triangles; gravity on every vertex's mass.
     solver_->set_loads(place_on_surface(p.load_case.loads, s,
@@ -24,7 +35,11 @@ class PbdModel : public Model {
   }
 
   void step(const FrameLoads& loads) override {
-    solver_->step(loads.values, no_pins_, no_pin_positions_);
+    Eigen::Index row = 0;
+    for (size_t t = 0; t < tool_vertices_.size(); ++t)
+      for (int v : tool_vertices_[t])
+        pinned_positions_.row(row++) = solver_->rest_positions().row(v) + loads.tool_values[t].transpose();
+    solver_->step(loads.values, pinned_, pinned_positions_);
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
     const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -40,8 +55,9 @@ class PbdModel : public Model {
   std::unique_ptr<pbd::Solver> solver_;
   Displacements u_;
   std::vector<PhaseTime> phases_{{phase::kProjection}, {phase::kIntegration}};
-  const std::vector<int> no_pins_;
-  const Points no_pin_positions_;
+  std::vector<std::vector<int>> tool_vertices_;  // per tool: the surface vertices it pins
+  std::vector<int> pinned_;                      // every tool's, in tool order
+  Points pinned_positions_;
 };
 
 }  // namespace
@@ -54,6 +70,9 @@ ModelInfo pbd_model_info() {
   m.parameters = pbd::parameter_specs();
   m.create = [] { return std::make_unique<PbdModel>(); };
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate};
+  m.tools_how = "the held surface vertices pinned (inverse mass 0) at rest plus the tool's displacement, eq. (33); "
+                "no sliding plate (a pin holds all three components)";
   return m;
 }
 

@@ -34,8 +34,8 @@ TEST_P(AllocationFreeFrame, StepAllocatesNothingAfterTheFirstFrame) {
     loads.push_back(Load::surface_traction({0.01, 0, 0.1}, 0.005, "loads[1]"));
     loads.push_back(Load::body_force("loads[2]"));
   }
-  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, LoadCase{testing::kCubeBottom, loads},
-            resolve_parameters(info.parameters, GetParam().parameters, GetParam().model)};
+  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, LoadCase{testing::kCubeBottom, loads, {}},
+            resolve_parameters(info.parameters, GetParam().parameters, GetParam().model), Points()};
   auto model = info.create();
   model->setup(p);
   FrameLoads frame;

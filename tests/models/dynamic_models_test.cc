@@ -122,7 +122,7 @@ TEST(Registry, NamesAreCheckedAtRegistration) {
 }
 
 TEST(Registry, AnUnsupportedLoadIsOneErrorNamingModelKindAndKey) {
-  LoadCase c{testing::kCubeBottom, {Load::point_force({0, 0, 0.1}), Load::body_force("loads[1]")}};
+  LoadCase c{testing::kCubeBottom, {Load::point_force({0, 0, 0.1}), Load::body_force("loads[1]")}, {}};
   EXPECT_NO_THROW(check_supported(find_model("fem"), c));
   try {
     check_supported(find_model("fem_distributed"), c);
@@ -139,8 +139,8 @@ TEST(FemModel, TwoLevelPreconditionerWithoutACoarseMeshIsAnError) {
   HybridMesh no_coarse = cube();
   no_coarse.coarse_volume = TetMesh{};
   const ModelInfo& fem = find_model("fem");
-  Problem p{&no_coarse, Material{}, LoadCase{testing::kCubeBottom, testing::kCubePull.loads()},
-            resolve_parameters(fem.parameters, {{"solver", "iterative"}, {"preconditioner", "two_level"}}, "fem")};
+  Problem p{&no_coarse, Material{}, LoadCase{testing::kCubeBottom, testing::kCubePull.loads(), {}},
+            resolve_parameters(fem.parameters, {{"solver", "iterative"}, {"preconditioner", "two_level"}}, "fem"), Points()};
   auto m = fem.create();
   try {
     m->setup(p);

@@ -95,7 +95,7 @@ TEST(LoadKinds, ATractionAndGravityGiveTheFineFemsAnswerThroughTheCondensedModel
   auto fem = testing::set_up_model("fem", cube(), testing::kCubeBottom, {}, kEveryKind);
   auto condensed = testing::set_up_model("condensed", cube(), testing::kCubeBottom, {{"precompute", "on_demand"}},
                                          kEveryKind);
-  const FrameLoads frame{{{0, 0, 0.3}, {0.1, 0, -0.5}, {0, 0, -9.81}}};
+  const FrameLoads frame{{{0, 0, 0.3}, {0.1, 0, -0.5}, {0, 0, -9.81}}, {}};
   fem->step(frame);
   condensed->step(frame);
   const double umax = fem->surface_displacement().rowwise().norm().maxCoeff();
@@ -107,7 +107,7 @@ TEST(LoadKinds, ATractionAndGravityGiveTheFineFemsAnswerThroughTheCondensedModel
 /// its answers to each alone.
 TEST(LoadKinds, TheLinearFemSuperposesLoadsOfEveryKind) {
   auto all = testing::set_up_model("fem", cube(), testing::kCubeBottom, {}, kEveryKind);
-  const FrameLoads frame{{{0, 0, 0.3}, {0.1, 0, -0.5}, {0, 0, -9.81}}};
+  const FrameLoads frame{{{0, 0, 0.3}, {0.1, 0, -0.5}, {0, 0, -9.81}}, {}};
   all->step(frame);
   Displacements sum = Displacements::Zero(all->surface_displacement().rows(), 3);
   for (size_t l = 0; l < kEveryKind.size(); ++l) {
@@ -128,7 +128,7 @@ TEST(LoadKinds, GravityOnAColumnMatchesTheClosedFormTopDisplacement) {
   const ModelInfo& info = find_model("fem");
   Material m;
   m.poisson_ratio = 0;
-  Problem p{&cube(), m, LoadCase{testing::kCubeBottom, {Load::body_force()}}, resolve_parameters(info.parameters, {}, "fem")};
+  Problem p{&cube(), m, LoadCase{testing::kCubeBottom, {Load::body_force()}, {}}, resolve_parameters(info.parameters, {}, "fem"), Points()};
   auto fem = info.create();
   fem->setup(p);
   fem->step(frame_of({0, 0, -9.81}));

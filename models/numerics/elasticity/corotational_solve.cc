@@ -52,6 +52,8 @@ class CorotationalSolve : public ElasticSolve {
         max_updates_(o.max_updates),
         relaxation_(o.relaxation),
         work_(body.free_dofs()) {
+    if (!body.prescribed_groups().empty())
+      throw std::invalid_argument("the corotational solve takes no prescribed displacements (grasps, plates) yet");
     if (o.update != "converged" && o.update != "per_frame")
       throw std::invalid_argument("corotational update '" + o.update + "' is neither converged nor per_frame");
     if (max_updates_ < 1) throw std::invalid_argument("corotational_max_updates must be at least 1");

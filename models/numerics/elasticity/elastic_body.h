@@ -1,13 +1,21 @@
-// A linear-elastic body on a tet mesh with clamped nodes, assembled once: the
-// stiffness K of eq. (11), which dofs are free, and K restricted to them
-// (Dirichlet u = 0 on the clamped ones). What every way of solving K u = f
-// shares (elastic_solve.h); the fine FEM and the hybrid's coarse mesh each hold one.
+// A linear-elastic body on a tet mesh with clamped nodes and, optionally, groups of
+// nodes whose displacement is prescribed each frame (a grasp, a plate), assembled
+// once: the stiffness K of eq. (11), which dofs are free, K restricted to them, and
+// what the prescribed values add to the right-hand side (Dirichlet conditions:
+// K_ff u_f = f_f - K_fp u_p). What every way of solving K u = f shares
+// (elastic_solve.h); the fine FEM and the coarse meshes each hold one. The forces
+// the body exerts on each group and on the support (reactions) come from the
+// same K.
 #pragma once
 
 #include <Eigen/SparseCore>
 #include <vector>
 
 #include "load_mapping.h"
+
+namespace tb {
+class ElasticSolve;
+}
 #include "material.h"
 #include "mesh_types.h"
 
@@ -18,13 +26,25 @@ namespace tb {
 /// reports is single-threaded. Call once at program start.
 void use_one_thread();
 
+/// Nodes whose displacement is prescribed together each frame: every listed
+/// component of every node gets that component of the group's value (a rigid
+/// translation); the other components stay free (a plate that slides).
+struct PrescribedGroup {
+  std::vector<int> nodes;                      ///< #N node indices, distinct, none clamped
+  bool components[3] = {true, true, true};     ///< which of x, y, z are prescribed
+};
+
 class ElasticBody {
  public:
-  /// Assembles K (deal.II, stiffness_assembly.h) and removes the clamped dofs.
-  ///   clamped  #V flags, 1 = zero displacement
-  /// Throws std::invalid_argument if nothing is clamped (K is singular) or
-  /// everything is.
-  ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped);
+  /// Assembles K (deal.II, stiffness_assembly.h) and removes the clamped and the
+  /// prescribed dofs from the free ones.
+  ///   clamped     #V flags, 1 = zero displacement
+  ///   prescribed  #G groups (a node in at most one group and not clamped)
+  /// Throws std::invalid_argument if nothing is clamped or prescribed (K is
+  /// singular), if everything is, or if a group names a clamped node, a node twice
+  /// or none. (Prescribed groups alone must hold the body's rigid motions.)
+  ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
+              std::vector<PrescribedGroup> prescribed = {});
 
   const TetMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
@@ -34,20 +54,43 @@ class ElasticBody {
   const Eigen::SparseMatrix<double>& free_stiffness() const { return K_free_; }
   int dofs() const { return static_cast<int>(full_to_free_.size()); }
   int free_dofs() const { return static_cast<int>(free_to_full_.size()); }
-  /// The free index of a full dof, -1 when clamped.
+  /// The free index of a full dof, -1 when clamped or prescribed.
   int free_index(int dof) const { return full_to_free_[static_cast<size_t>(dof)]; }
 
-  /// u (3 #V) -> u_free, and back (clamped dofs set to 0). No allocation when the
-  /// output already has its size.
+  /// u (3 #V) -> u_free, and back (clamped dofs set to 0 when u is resized; the
+  /// other non-free dofs left as they are). No allocation when the output already
+  /// has its size.
   void to_free(const Eigen::VectorXd& u, Eigen::VectorXd& u_free) const;
   void to_full(const Eigen::VectorXd& u_free, Eigen::VectorXd& u) const;
+
+  const std::vector<PrescribedGroup>& prescribed_groups() const { return groups_; }
+  /// f_free -= K_fp u_p, u_p the prescribed dofs at `group_values` (#G, one per
+  /// group). No allocation.
+  void subtract_prescribed(const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& f_free) const;
+  /// The free dofs subtract_prescribed() may change, sorted.
+  const std::vector<int>& prescribed_coupled_rows() const { return coupled_rows_; }
+  /// Sets the prescribed dofs of u (3 #V) to `group_values`.
+  void set_prescribed(const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& u) const;
+  /// The force the body exerts on each group (#G) and on the clamped nodes
+  /// (`support`), N: at each constrained dof c, f_c - (K u)_c, summed over the
+  /// group's dofs, where f (3 #V) is the external nodal force (the share of a load
+  /// that lands on a constrained node). Components a group does not prescribe are
+  /// 0. No allocation when `groups` has its size.
+  void reactions(const Eigen::VectorXd& u, const Eigen::VectorXd& f, std::vector<Eigen::Vector3d>& groups,
+                 Eigen::Vector3d& support) const;
 
  private:
   TetMesh mesh_;
   Material material_;
   Eigen::SparseMatrix<double> K_full_, K_free_;
-  std::vector<int> full_to_free_;  ///< -1 for clamped dofs
+  std::vector<int> full_to_free_;  ///< -1 for clamped and prescribed dofs
   std::vector<int> free_to_full_;
+  std::vector<PrescribedGroup> groups_;
+  std::vector<int> prescribed_dof_, prescribed_group_;  ///< each prescribed dof and its group
+  std::vector<int> clamped_dof_;                        ///< every clamped dof
+  Eigen::SparseMatrix<double> K_fp_;                    ///< free rows by prescribed dofs
+  std::vector<int> coupled_rows_;                       ///< rows of K_fp with a nonzero
+  mutable Eigen::VectorXd u_p_;                         ///< work: the prescribed values
 };
 
 /// The loads of a run on one body, mapped to its nodes once (setup): per frame,
@@ -62,6 +105,9 @@ class BodyLoads {
   /// dofs of node nodes_lk (a share on a clamped node goes to the support).
   ///   values  #L, f_free  #free dofs (resized if needed). No allocation.
   void assemble(const std::vector<Eigen::Vector3d>& values, Eigen::VectorXd& f_free) const;
+  /// f (3 #V) = the loads' nodal forces on every dof, constrained ones included
+  /// (for reactions). No allocation once f has its size.
+  void assemble_full(const std::vector<Eigen::Vector3d>& values, Eigen::VectorXd& f) const;
   /// The free dofs assemble() may make nonzero, sorted and unique.
   const std::vector<int>& loaded_free_dofs() const { return loaded_free_dofs_; }
   size_t size() const { return per_load_.size(); }
@@ -72,6 +118,33 @@ class BodyLoads {
   const ElasticBody& body_;
   std::vector<NodalWeights> per_load_;
   std::vector<int> loaded_free_dofs_;
+};
+
+/// One static frame of a linear-elastic body: the loads assembled, the prescribed
+/// displacements applied (K_ff u_f = f_f - K_fp u_p), solved by `solve`, and the
+/// reactions measured: what the fem, embedded and hybrid models share. The body,
+/// the loads and the solve must outlive it.
+class ElasticFrame {
+ public:
+  ElasticFrame(const ElasticBody& body, const BodyLoads& loads, ElasticSolve& solve);
+  /// u (3 #V, the previous frame's in: a warm start) for this frame's values.
+  ///   load_values   #L, one per load; group_values  #G, one per prescribed group
+  /// No allocation after the first call.
+  void step(const std::vector<Eigen::Vector3d>& load_values, const std::vector<Eigen::Vector3d>& group_values,
+            Eigen::VectorXd& u);
+  /// After step(): the force the body exerts on each prescribed group (#G) and
+  /// on its support, N (ElasticBody::reactions).
+  const std::vector<Eigen::Vector3d>& group_forces() const { return group_forces_; }
+  const Eigen::Vector3d& support_force() const { return support_force_; }
+
+ private:
+  const ElasticBody& body_;
+  const BodyLoads& loads_;
+  ElasticSolve& solve_;
+  std::vector<int> rows_;  ///< free dofs the right-hand side may touch
+  Eigen::VectorXd f_free_, f_full_;
+  std::vector<Eigen::Vector3d> group_forces_;
+  Eigen::Vector3d support_force_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace tb

@@ -285,8 +285,8 @@ namespace {
 /// displacement (experiments/scenarios/cube-pull.json), or 5000 frames.
 Displacements cube_pull_steady_state(const std::string& model, nlohmann::json parameters) {
   const ModelInfo& info = find_model(model);
-  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, LoadCase{testing::kCubeBottom, testing::kCubePull.loads()},
-            resolve_parameters(info.parameters, parameters, model)};
+  Problem p{&testing::scenario_mesh("cube-pull"), Material{}, LoadCase{testing::kCubeBottom, testing::kCubePull.loads(), {}},
+            resolve_parameters(info.parameters, parameters, model), Points()};
   auto m = info.create();
   m->setup(p);
   Displacements last = Displacements::Zero(p.mesh->fine_surface.V.rows(), 3);
