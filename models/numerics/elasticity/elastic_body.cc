@@ -110,12 +110,12 @@ void ElasticBody::set_prescribed(const std::vector<Eigen::Vector3d>& group_value
 }
 
 void ElasticBody::reactions(const Eigen::VectorXd& u, const Eigen::VectorXd& f, std::vector<Eigen::Vector3d>& groups,
-                            Eigen::Vector3d& support) const {
+                            Eigen::Vector3d& support, const Eigen::VectorXd* internal_force) const {
   groups.resize(groups_.size());
   for (Eigen::Vector3d& g : groups) g.setZero();
   support.setZero();
   // (K u)_c = column c of K (symmetric) dotted with u.
-  const auto force_at = [&](int c) { return f(c) - K_full_.col(c).dot(u); };
+  const auto force_at = [&](int c) { return f(c) - (internal_force ? (*internal_force)(c) : K_full_.col(c).dot(u)); };
   for (size_t k = 0; k < prescribed_dof_.size(); ++k)
     groups[static_cast<size_t>(prescribed_group_[k])](prescribed_dof_[k] % 3) += force_at(prescribed_dof_[k]);
   for (int c : clamped_dof_) support(c % 3) += force_at(c);
@@ -190,12 +190,12 @@ ElasticFrame::ElasticFrame(const ElasticBody& body, const BodyLoads& loads, Elas
 void ElasticFrame::step(const std::vector<Eigen::Vector3d>& load_values,
                         const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& u) {
   loads_.assemble(load_values, f_free_);
-  body_.subtract_prescribed(group_values, f_free_);
+  if (solve_.linear()) body_.subtract_prescribed(group_values, f_free_);
   body_.set_prescribed(group_values, u);  // before the solve: a strategy may read u whole
   solve_.solve(f_free_, &rows_, u);
   body_.set_prescribed(group_values, u);
   loads_.assemble_full(load_values, f_full_);
-  body_.reactions(u, f_full_, group_forces_, support_force_);
+  body_.reactions(u, f_full_, group_forces_, support_force_, solve_.internal_force());
 }
 
 }  // namespace tb

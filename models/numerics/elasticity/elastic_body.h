@@ -72,12 +72,13 @@ class ElasticBody {
   /// Sets the prescribed dofs of u (3 #V) to `group_values`.
   void set_prescribed(const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& u) const;
   /// The force the body exerts on each group (#G) and on the clamped nodes
-  /// (`support`), N: at each constrained dof c, f_c - (K u)_c, summed over the
+  /// (`support`), N: at each constrained dof c, f_c - f_int,c, summed over the
   /// group's dofs, where f (3 #V) is the external nodal force (the share of a load
-  /// that lands on a constrained node). Components a group does not prescribe are
-  /// 0. No allocation when `groups` has its size.
+  /// that lands on a constrained node) and f_int the internal force: K u, or
+  /// `internal_force` (3 #V) when given (a nonlinear law). Components a group does
+  /// not prescribe are 0. No allocation when `groups` has its size.
   void reactions(const Eigen::VectorXd& u, const Eigen::VectorXd& f, std::vector<Eigen::Vector3d>& groups,
-                 Eigen::Vector3d& support) const;
+                 Eigen::Vector3d& support, const Eigen::VectorXd* internal_force = nullptr) const;
 
  private:
   TetMesh mesh_;

@@ -11,6 +11,7 @@ const std::vector<ElasticSolveInfo>& elastic_solves() {
       direct_solve_info(),
       iterative_solve_info(),
       corotational_solve_info(),
+      newton_solve_info(),
   };
   return list;
 }

@@ -35,6 +35,14 @@ class ElasticSolve {
     loads.assemble(values, load_work_);
     solve(load_work_, &loads.loaded_free_dofs(), u);
   }
+  /// Whether u is linear in the loads and prescribed values: then the caller lifts
+  /// the prescribed values into the right-hand side (f_free - K_fp u_p). A
+  /// nonlinear strategy takes the external force alone and reads the prescribed
+  /// values from u (set by the caller before solve()).
+  virtual bool linear() const { return true; }
+  /// A nonlinear strategy's internal force f_int(u) at the last solution (3 #V),
+  /// from which reactions are f - f_int; null for a linear one (then K u).
+  virtual const Eigen::VectorXd* internal_force() const { return nullptr; }
   /// Solver iterations of the last solve, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
   /// Facts worth writing beside a result (factor size, preconditioner ...).
@@ -73,6 +81,7 @@ const std::vector<ElasticSolveInfo>& elastic_solves();
 ElasticSolveInfo direct_solve_info();
 ElasticSolveInfo iterative_solve_info();
 ElasticSolveInfo corotational_solve_info();
+ElasticSolveInfo newton_solve_info();
 
 /// The cg_tolerance parameter (with `prefix`), shared by the strategies that run CG.
 std::vector<ParameterSpec> cg_tolerance_parameter(const std::string& prefix);

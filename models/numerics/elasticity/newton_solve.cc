@@ -1,0 +1,239 @@
+// The static nonlinear elastic solve: Newton's method on the body's total
+// Lagrangian equilibrium f_int(u) = f_ext (dead loads), for any material law of
+// numerics/materials (element forces and tangents from the law's P(F) and dP/dF on
+// P1 tets, tet_element.h), each Newton system factorised by CHOLMOD (symbolic
+// analysis once, numeric factorisation per iteration), with load increments from the
+// last converged state (forces and prescribed displacements alike), a backtracking
+// line search on the residual, and increments halved when Newton fails (an element
+// the law cannot take, an indefinite tangent, no decrease, too many iterations). The
+// one-process nonlinear answer on the paper-sized meshes, beside the distributed
+// reference (models/fem_distributed), and the nonlinear coarse FEM of the
+// embedded and hybrid models (coarse_solver newton). Not a real-time strategy: a
+// frame allocates (CHOLMOD's factorisation).
+#include <Eigen/CholmodSupport>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "elastic_solve.h"
+#include "lame_parameters.h"
+#include "material_laws.h"
+#include "tet_element.h"
+
+namespace tb {
+namespace {
+
+class NewtonSolve : public ElasticSolve {
+ public:
+  struct Options {
+    std::string law = "neo_hookean";
+    double tolerance = 1e-10;  ///< |R_free| <= tolerance * the forces in play, or |du| <= tolerance |u|
+    int max_iterations = 50;   ///< per increment, before it is halved
+    int load_steps = 1;        ///< increments per solve (halved on failure)
+    int max_halvings = 12;
+  };
+
+  NewtonSolve(const ElasticBody& body, const Options& o)
+      : body_(body), law_(find_material_law(o.law)), lame_(lame_parameters(body.material())), o_(o) {
+    const TetMesh& m = body.mesh();
+    shapes_.reserve(static_cast<size_t>(m.T.rows()));
+    for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+      shapes_.push_back(tet_shape(m.V.row(m.T(t, 0)), m.V.row(m.T(t, 1)), m.V.row(m.T(t, 2)), m.V.row(m.T(t, 3))));
+    // The tangent lives on K's pattern (every pair of nodes sharing a tet): where
+    // each element entry lands in its values, and where each free entry comes from.
+    K_full_ = body.full_stiffness();
+    const auto value_index = [&](int row, int col) {
+      const int* begin = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col];
+      const int* end = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col + 1];
+      const int* at = std::lower_bound(begin, end, row);
+      if (at == end || *at != row) throw std::logic_error("newton solve: an element entry outside K's pattern");
+      return static_cast<int>(at - K_full_.innerIndexPtr());
+    };
+    scatter_.resize(static_cast<size_t>(m.T.rows()) * 144);
+    for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+      for (int a = 0; a < 12; ++a)
+        for (int b = 0; b < 12; ++b)
+          scatter_[static_cast<size_t>(t) * 144 + static_cast<size_t>(12 * b + a)] =
+              value_index(3 * m.T(t, a / 3) + a % 3, 3 * m.T(t, b / 3) + b % 3);
+    K_free_ = body.free_stiffness();
+    std::vector<int> free_to_full_dof(static_cast<size_t>(body.free_dofs()));
+    for (int d = 0; d < body.dofs(); ++d)
+      if (body.free_index(d) >= 0) free_to_full_dof[static_cast<size_t>(body.free_index(d))] = d;
+    for (int c = 0; c < K_free_.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K_free_, c); it; ++it)
+        free_from_full_.push_back(value_index(free_to_full_dof[static_cast<size_t>(it.row())],
+                                              free_to_full_dof[static_cast<size_t>(it.col())]));
+    cholesky_.cholmod().print = 0;  // an indefinite tangent is handled (info()), not printed
+    cholesky_.analyzePattern(K_free_);
+    u_converged_ = Eigen::VectorXd::Zero(body.dofs());
+    f_converged_ = Eigen::VectorXd::Zero(body.free_dofs());
+  }
+
+  bool linear() const override { return false; }
+  const Eigen::VectorXd* internal_force() const override { return &f_int_solution_; }
+
+  void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
+    if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
+    // The target: this frame's forces and the prescribed values the caller set in u;
+    // the start: the last converged state.
+    const Eigen::VectorXd u_target = u, u_start = u_converged_;
+    Eigen::VectorXd state = u_start, f(body_.free_dofs());
+    iterations_ = increments_ = halvings_ = 0;
+    double done = 0, increment = 1.0 / std::max(1, o_.load_steps);
+    while (done < 1) {
+      double target = done + increment;
+      if (target > 1 - 1e-12) target = 1;
+      f = (1 - target) * f_converged_ + target * f_free;
+      Eigen::VectorXd trial = state;
+      set_constrained(u_start, u_target, target, trial);
+      if (newton(f, trial)) {
+        state = trial;
+        done = target;
+        ++increments_;
+      } else {
+        increment /= 2;
+        if (++halvings_ > o_.max_halvings) {
+          std::ostringstream msg;
+          msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << target << " after "
+              << o_.max_halvings << " halvings of the increment; the load may exceed what the mesh and law allow";
+          throw std::runtime_error(msg.str());
+        }
+      }
+    }
+    u = state;
+    u_converged_ = state;
+    assemble(state, false);
+    f_int_solution_ = f_int_;
+    f_converged_ = f_free;
+  }
+
+  int last_iterations() const override { return iterations_; }
+  nlohmann::json report() const override {
+    return {{"solve", "newton"},      {"material_law", law_.name},         {"newton_tolerance", o_.tolerance},
+            {"load_increments_last_solve", increments_}, {"increment_halvings_last_solve", halvings_},
+            {"newton_iterations_last_solve", iterations_}};
+  }
+
+ private:
+  /// The non-free dofs of `u` at fraction t between `from` and `to` (the
+  /// prescribed values; clamped ones stay 0).
+  void set_constrained(const Eigen::VectorXd& from, const Eigen::VectorXd& to, double t, Eigen::VectorXd& u) const {
+    for (int d = 0; d < body_.dofs(); ++d)
+      if (body_.free_index(d) < 0) u(d) = (1 - t) * from(d) + t * to(d);
+  }
+
+  /// f_int (3 #V) and, with `tangent`, the tangent's values on K's pattern at u.
+  /// False where the law is undefined (det F <= 0 for a law not defined there).
+  bool assemble(const Eigen::VectorXd& u, bool tangent) {
+    const TetMesh& m = body_.mesh();
+    f_int_.setZero(body_.dofs());
+    if (tangent) std::fill(K_full_.valuePtr(), K_full_.valuePtr() + K_full_.nonZeros(), 0.0);
+    for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+      const TetShape& s = shapes_[static_cast<size_t>(t)];
+      Eigen::Matrix<double, 3, 4> x;
+      for (int a = 0; a < 4; ++a) x.col(a) = m.V.row(m.T(t, a)).transpose() + u.segment<3>(3 * m.T(t, a));
+      const Eigen::Matrix3d F = tet_deformation_gradient(s, x);
+      if (!law_.defined_when_inverted && !(F.determinant() > 0)) return false;
+      const Eigen::Matrix<double, 9, 12> G = tet_gradient_operator(s);
+      const Eigen::Matrix<double, 12, 1> fe = s.volume * (G.transpose() * flatten(law_.first_piola(F, lame_)));
+      for (int a = 0; a < 4; ++a) f_int_.segment<3>(3 * m.T(t, a)) += fe.segment<3>(3 * a);
+      if (!tangent) continue;
+      const Eigen::Matrix<double, 12, 12> Ke = s.volume * (G.transpose() * (law_.tangent(F, lame_) * G));
+      const int* at = &scatter_[static_cast<size_t>(t) * 144];
+      for (int k = 0; k < 144; ++k) K_full_.valuePtr()[at[k]] += Ke.data()[k];
+    }
+    return true;
+  }
+
+  /// R_free = f_int_free - f, from f_int_.
+  void residual(const Eigen::VectorXd& f, Eigen::VectorXd& r) const {
+    body_.to_free(f_int_, r);
+    r -= f;
+  }
+
+  /// Newton from `u` (its constrained dofs already set) at external force f; true
+  /// with u the equilibrium when converged.
+  bool newton(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
+    if (!assemble(u, true)) return false;
+    Eigen::VectorXd r, du_free, du_full, u_try;
+    residual(f, r);
+    // The scale of the forces in play: the external ones, or (under prescribed
+    // displacements alone) the internal ones the first state carries.
+    const double scale = std::max({f.norm(), f_int_.norm(), 1e-300});
+    for (int it = 0;; ++it) {
+      const double r_norm = r.norm();
+      if (r_norm <= o_.tolerance * scale) return true;
+      if (it == o_.max_iterations) return false;
+      ++iterations_;
+      for (size_t k = 0; k < free_from_full_.size(); ++k) K_free_.valuePtr()[k] = K_full_.valuePtr()[free_from_full_[k]];
+      cholesky_.factorize(K_free_);
+      if (cholesky_.info() != Eigen::Success) return false;  // not positive definite here
+      du_free = cholesky_.solve(-r);
+      du_full = Eigen::VectorXd::Zero(body_.dofs());
+      body_.to_full(du_free, du_full);
+      // Converged also when the step no longer moves u: near rest a law's stress is
+      // a difference of terms of the size of mu (neo-Hookean: mu (F - F^-T)), which
+      // leaves |R| a round-off floor that a small load's tolerance can sit below.
+      if (du_full.norm() <= o_.tolerance * u.norm()) {
+        u += du_full;
+        return true;
+      }
+      // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and
+      // lowers |R|.
+      bool accepted = false;
+      for (double step = 1; step > 1.0 / 256 && !accepted; step /= 2) {
+        u_try = u + step * du_full;
+        if (!assemble(u_try, true)) continue;
+        residual(f, r);
+        accepted = r.norm() < r_norm;
+      }
+      if (!accepted) return false;
+      u = u_try;
+    }
+  }
+
+  const ElasticBody& body_;
+  const MaterialLawInfo& law_;
+  LameParameters lame_;
+  Options o_;
+  std::vector<TetShape> shapes_;
+  std::vector<int> scatter_;         ///< per tet, its 12 x 12 entries' places in K_full_'s values (column-major)
+  std::vector<int> free_from_full_;  ///< per value of K_free_, its place in K_full_'s values
+  Eigen::SparseMatrix<double> K_full_, K_free_;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky_;
+  Eigen::VectorXd f_int_, f_int_solution_, u_converged_, f_converged_;
+  int iterations_ = 0, increments_ = 0, halvings_ = 0;
+};
+
+}  // namespace
+
+ElasticSolveInfo newton_solve_info() {
+  return {"newton",
+          "static nonlinear FEM: Newton on f_int(u) = f for the material law of material_law, CHOLMOD on the "
+          "tangent, load increments from the last converged state (a reference solve, not real time)",
+          [](const std::string& prefix) {
+            std::vector<std::string> laws;
+            for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
+            using P = ParameterSpec;
+            return std::vector<ParameterSpec>{
+                P::choice(prefix + "material_law", laws, "neo_hookean",
+                          "of the newton solver: the material law (numerics/materials), with the Lame parameters of "
+                          "the scenario's E and nu"),
+                P::number(prefix + "newton_tolerance", 1e-10, 1e-15, 1e-3,
+                          "of the newton solver: converged when |R| <= this times the norm of the forces in play, or a Newton "
+                          "step moves u by at most this times |u|"),
+                P::whole_number(prefix + "newton_load_steps", 1, 1, 10000,
+                                "of the newton solver: load increments per frame from the last converged state "
+                                "(each halved when Newton fails)")};
+          },
+          [](const ElasticBody& b, const Parameters& p, const std::string& prefix, const ElasticSolveContext&) {
+            NewtonSolve::Options o;
+            o.law = p.choice(prefix + "material_law");
+            o.tolerance = p.number(prefix + "newton_tolerance");
+            o.load_steps = p.integer(prefix + "newton_load_steps");
+            return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
+          }};
+}
+
+}  // namespace tb

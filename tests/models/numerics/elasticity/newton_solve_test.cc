@@ -1,0 +1,148 @@
+// The static nonlinear solve (newton_solve.cc) against what it must equal: the
+// direct linear solve for the linear law, the closed-form homogeneous uniaxial
+// stretch and compression of a block for each nonlinear law (the stretch ratio and
+// the lateral contraction as functions of the nominal stress, derived here, not
+// taken from the law's code), and the linear answer at small load.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "lame_parameters.h"
+#include "load_mapping.h"
+#include "test_support.h"
+
+namespace tb {
+namespace {
+
+const Material kMaterial{3000, 0.45, 1000};
+
+/// Solves g(t) = 0 for t near 1 by Newton with a central-difference slope.
+double root(const std::function<double(double)>& g) {
+  double t = 1;
+  for (int k = 0; k < 100; ++k) {
+    const double h = 1e-7, slope = (g(t + h) - g(t - h)) / (2 * h), step = g(t) / slope;
+    t -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  return t;
+}
+
+/// Nominal (first Piola) stress P11 of a homogeneous uniaxial stretch F = diag(l, t, t)
+/// with free lateral faces (P22 = P33 = 0), and t, for each law (lambda, mu: Lame).
+///   neo_hookean (W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2): P = mu F + (lambda ln J - mu) F^-T,
+///     P22 = 0: mu t^2 + lambda ln(l t^2) - mu = 0; then P11 = mu (l - t^2 / l).
+///   neo_hookean_isochoric (W = C10 (I1bar - 3) + (J - 1)^2 / D1, C10 = mu/2, D1 = 2/K):
+///     P = 2 C10 J^(-2/3) (F - I1/3 F^-T) + 2/D1 (J - 1) J F^-T,
+///     P22 = 2 C10 J^(-2/3) (t - I1/(3 t)) + 2/D1 (J - 1) J / t = 0;  P11 the same with l.
+///   stable_neo_hookean (Smith et al. 2018, mu' = 4 mu / 3, lambda' = lambda + 5 mu / 6,
+///     alpha = 1 + mu'/lambda' - mu'/(4 lambda')): P = mu' (1 - 1/(I1 + 1)) F + lambda' (J - alpha) cof F,
+///     cof F = diag(t^2, l t, l t): P22 = mu' (1 - 1/(I1 + 1)) t + lambda' (J - alpha) l t = 0;
+///     P11 = mu' (1 - 1/(I1 + 1)) l + lambda' (J - alpha) t^2.
+struct Uniaxial {
+  double t, P11;
+};
+Uniaxial uniaxial(const std::string& law, double l, const LameParameters& p) {
+  const double lambda = p.lambda, mu = p.mu, K = lambda + 2 * mu / 3;
+  if (law == "neo_hookean") {
+    const double t = root([&](double t) { return mu * t * t + lambda * std::log(l * t * t) - mu; });
+    return {t, mu * (l - t * t / l)};
+  }
+  if (law == "neo_hookean_isochoric") {
+    const double C10 = mu / 2, D1 = 2 / K;
+    auto P = [&](double t, double a) {  // the diagonal entry along the axis of stretch a
+      const double J = l * t * t, I1 = l * l + 2 * t * t;
+      return 2 * C10 * std::pow(J, -2.0 / 3) * (a - I1 / (3 * a)) + 2 / D1 * (J - 1) * J / a;
+    };
+    const double t = root([&](double t) { return P(t, t); });
+    return {t, P(t, l)};
+  }
+  const double mu_s = 4 * mu / 3, lambda_s = lambda + 5 * mu / 6, alpha = 1 + mu_s / lambda_s - mu_s / (4 * lambda_s);
+  auto shear = [&](double t) { return mu_s * (1 - 1 / (l * l + 2 * t * t + 1)); };
+  const double t = root([&](double t) { return shear(t) * t + lambda_s * (l * t * t - alpha) * l * t; });
+  return {t, shear(t) * l + lambda_s * (l * t * t - alpha) * t * t};
+}
+
+/// A block [0, a]^2 x [0, H] held on three symmetry planes (x = 0, y = 0, z = 0,
+/// each sliding in its plane) and its top pulled or pushed by a sliding plate: a
+/// homogeneous uniaxial state, which P1 elements represent exactly.
+struct Block {
+  const double a = 0.01, H = 0.02;
+  TetMesh mesh = testing::box_mesh(a, a, H, 2, 2, 4, 2e-7);
+  std::vector<PrescribedGroup> groups() const {
+    std::vector<PrescribedGroup> g(4);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) g[static_cast<size_t>(c)].components[k] = k == c;
+    g[3] = g[2];  // the top: the z component
+    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(mesh.V(v, c)) < 1e-12) g[static_cast<size_t>(c)].nodes.push_back(static_cast<int>(v));
+      if (std::abs(mesh.V(v, 2) - H) < 1e-12) g[3].nodes.push_back(static_cast<int>(v));
+    }
+    return g;
+  }
+};
+
+class UniaxialStretch : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(UniaxialStretch, MatchesTheClosedFormInStretchAndCompression) {
+  const Block b;
+  const ElasticBody body(b.mesh, kMaterial, std::vector<char>(static_cast<size_t>(b.mesh.V.rows()), 0), b.groups());
+  const LameParameters lame = lame_parameters(kMaterial);
+  for (double l : {1.3, 0.8}) {
+    auto solve = testing::make_solve(
+        body, {{"solver", "newton"}, {"material_law", GetParam()}, {"newton_tolerance", 1e-13}, {"newton_load_steps", 4}});
+    const BodyLoads none(body, {});
+    ElasticFrame frame(body, none, *solve);
+    Eigen::VectorXd u;
+    const Eigen::Vector3d zero = Eigen::Vector3d::Zero(), top(0, 0, (l - 1) * b.H);
+    frame.step({}, {zero, zero, zero, top}, u);
+    const Uniaxial expected = uniaxial(GetParam(), l, lame);
+    // Every node at F x: the lateral contraction is t everywhere.
+    double worst = 0;
+    for (Eigen::Index v = 0; v < b.mesh.V.rows(); ++v) {
+      const Eigen::Vector3d X = b.mesh.V.row(v).transpose();
+      const Eigen::Vector3d x_expected(expected.t * X.x(), expected.t * X.y(), l * X.z());
+      worst = std::max(worst, (X + u.segment<3>(3 * v) - x_expected).norm());
+    }
+    EXPECT_LT(worst, 1e-8 * b.a) << GetParam() << " l = " << l;
+    // The force on the top plate (the tissue's on it): -P11 times the rest area.
+    const double force = frame.group_forces()[3].z(), closed_form = -expected.P11 * b.a * b.a;
+    EXPECT_NEAR(force, closed_form, 1e-8 * std::abs(closed_form)) << GetParam() << " l = " << l;
+    RecordProperty(GetParam() + "_l" + std::to_string(l) + "_relative_force_error",
+                   ::testing::PrintToString(std::abs(force / closed_form - 1)));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Laws, UniaxialStretch,
+                         ::testing::Values("neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean"),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
+TEST(NewtonSolve, TheLinearLawIsTheDirectSolveAndNeoHookeanMeetsItAtSmallLoad) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
+  const BodyLoads loads(body, {containing_tet(h.fine_volume, {0, 0, 0.1}, "fine volume")});
+  Eigen::VectorXd direct, linear, neo_small, direct_small, neo;
+  make_direct_solve(body)->solve(loads, {Eigen::Vector3d(0, 0, 1)}, direct);
+  testing::make_solve(body, {{"solver", "newton"}, {"material_law", "linear"}})
+      ->solve(loads, {Eigen::Vector3d(0, 0, 1)}, linear);
+  EXPECT_LT((linear - direct).norm(), 1e-9 * direct.norm());
+  // At 1e-4 N the neo-Hookean answer is the linear one to first order in the load.
+  make_direct_solve(body)->solve(loads, {Eigen::Vector3d(0, 0, 1e-4)}, direct_small);
+  testing::make_solve(body, {{"solver", "newton"}})->solve(loads, {Eigen::Vector3d(0, 0, 1e-4)}, neo_small);
+  const double small = (neo_small - direct_small).norm() / direct_small.norm();
+  EXPECT_LT(small, 1e-3);
+  // At 1 N (the paper's load, 24 % of the height at the load point) they differ.
+  auto newton = testing::make_solve(body, {{"solver", "newton"}, {"newton_load_steps", 4}});
+  newton->solve(loads, {Eigen::Vector3d(0, 0, 1)}, neo);
+  const double large = (neo - direct).norm() / neo.norm();
+  EXPECT_GT(large, 100 * small);
+  RecordProperty("neo_hookean_vs_linear_1e-4N", ::testing::PrintToString(small));
+  RecordProperty("neo_hookean_vs_linear_1N", ::testing::PrintToString(large));
+  EXPECT_GT(newton->last_iterations(), 2);
+}
+
+}  // namespace
+}  // namespace tb
