@@ -38,7 +38,7 @@ struct MeshRecipe {
   ControlPointRule control_points = ControlPointRule::NearestToCoarseSurfaceNodes;
   HybridBuildOptions build;       ///< fine TetGen bounds, coarse target
   bool build_fine_volume = true;  ///< Files + coarse: also mesh the fine volume (FEM reference)
-  /// Uniform refinement (reference convergence, issue 13): the surface's triangles
+  /// Uniform refinement (reference convergence): the surface's triangles
   /// are split in four this many times, keeping its vertices first and bitwise
   /// (meshing/surface_subdivision.h), and the fine TetGen max_volume is scaled by
   /// 8^-refine_levels. 0: the surface as generated or read.

@@ -269,10 +269,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     nlohmann::json& obs = j["observables"];
     if (!s.tools.empty()) {
       obs["tools_how"] = info.tools_how;
-      obs["reactions"] = model->reaction_forces()
-                             ? nlohmann::json{{"file", "reactions.csv"}, {"how", info.reactions}}
-                             : nlohmann::json{{"file", nullptr}, {"why_not", "model '" + info.name +
-                                                                                  "' does not measure reaction forces"}};
+      obs["reactions"] =
+          model->reaction_forces()
+              ? nlohmann::json{{"file", "reactions.csv"}, {"how", info.reactions}}
+              : nlohmann::json{{"file", nullptr},
+                               {"why_not", "model '" + info.name + "' does not measure reaction forces"}};
     }
     if (s.probes.rows() > 0)
       obs["probes"] = model->probe_displacements()
@@ -290,7 +291,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   const size_t skip = std::min(step_ms.size(), static_cast<size_t>(changing));
   t["step_after_ramp"] =
       to_json(timing_stats(std::vector<double>(step_ms.begin() + static_cast<long>(skip), step_ms.end())));
-  // Each named phase of a frame (STYLE.md 10), over the frames after the ramp.
+  // Each named phase of a frame (docs/design.md: named timing phases), over the frames after the ramp.
   t["phases_after_ramp"] = nlohmann::json::object();
   for (const auto& [name, ms] : phase_ms)
     t["phases_after_ramp"][name] =

@@ -23,7 +23,7 @@ struct RunOptions {
   bool index_only = false;
   bool progress = true;        ///< progress lines on stderr
   std::string mesh_cache_dir;  ///< built meshes cached here by content hash; empty: none
-  // Several processes (mpirun, issue 13): every one runs every case (the
+  // Several processes (mpirun): every one runs every case (the
   // distributed FEM together, the other models redundantly); only the one with
   // write_outputs writes files. With `barrier` set, that process builds each mesh
   // (through the cache) before the others, who read it from the cache.

@@ -1,5 +1,5 @@
 // Scenario files (experiments/scenarios/*.json) and experiment files that group
-// them (experiments/paper.json). See README "Scenario files" for the schema.
+// them (experiments/paper.json). docs/scenario_schema.md gives the schema.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-// Parameter sweeps over a base scenario (issue 12). An experiment file may declare
+// Parameter sweeps over a base scenario. An experiment file may declare
 //   "sweep": {"mode": "one_at_a_time" | "grid",
 //             "cases": ["fem-direct", "hybrid"],        (optional: keep only these)
 //             "factors": [{"key": "models.*.parameters.iterations", "values": [5, 20],

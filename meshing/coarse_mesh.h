@@ -1,6 +1,6 @@
 // The coarse tet mesh of paper 1.2 from selected fine vertices: their Delaunay
 // mesh (TetGen) with tets outside the surface removed, then slivers repaired with
-// every coarse node kept on a selected fine vertex (issue 14). A Delaunay mesh of
+// every coarse node kept on a selected fine vertex. A Delaunay mesh of
 // points on a curved surface is full of nearly flat tets (a coarse mesh of a
 // sphere had one with a smallest dihedral angle of 0.0003 degrees), whose
 // stiffness is nearly singular.

@@ -1,4 +1,4 @@
-// Closed test surfaces generated in code (issue 14): a sphere, an ellipsoid, a
+// Closed test surfaces generated in code: a sphere, an ellipsoid, a
 // torus, a bar with a through hole, an L-block and a dumbbell, about the paper
 // cube's size (0.1 m) and resting on z = 0, at any resolution. Each is built from
 // structured quad patches (a cube sphere, a periodic grid, an extruded 2D grid,

@@ -1,5 +1,5 @@
 // Uniform refinement of a triangle surface that keeps its vertices: the levels of
-// the reference-convergence study (issue 13) share the paper's surface vertices
+// the reference-convergence study share the paper's surface vertices
 // bitwise, so any model run on the paper's surface compares with any level by rest
 // coordinates.
 #pragma once

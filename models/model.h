@@ -1,4 +1,4 @@
-// The one seam every deformation model plugs into (DESIGN.md). A model answers in
+// The one seam every deformation model plugs into (docs/architecture.md). A model answers in
 // one currency: the displacement of every fine-surface vertex, in the fine
 // surface's vertex order, so all models compare vertex by vertex.
 #pragma once
@@ -31,7 +31,7 @@ struct Problem {
 /// #V_surface by 3 displacements of the fine-surface vertices.
 using Displacements = Points;
 
-/// Named phases of a frame (STYLE.md 10), the same names in every model; the
+/// Named phases of a frame (docs/design.md: named timing phases), the same names in every model; the
 /// runner writes each one's median and p95 to timings.json.
 namespace phase {
 inline constexpr const char* kSolve = "solve";               ///< a static model's solve (fem)

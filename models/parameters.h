@@ -1,6 +1,6 @@
 // Model parameters, declared once (name, default, range, description) and resolved
 // strictly from a scenario: unknown names, wrong types and out-of-range values are
-// errors that name where they came from (STYLE.md 4 and 5).
+// errors that name where they came from (docs/design.md: declare each parameter once, strict configuration).
 #pragma once
 
 #include <map>

@@ -1,4 +1,4 @@
-// The fine linear FEM reduced to its surface by precomputation (issue 15):
+// The fine linear FEM reduced to its surface by precomputation:
 // Bro-Nielsen and Cotin 1996 (condensation), Cotin, Delingette and Ayache 1999
 // (precomputed elementary responses). The same solution as "fem" with the direct
 // solver, for a frame cost of a weighted sum of columns.

@@ -1,4 +1,4 @@
-// The fine FEM distributed with MPI (issue 13): the reference solve at 10^6 dofs
+// The fine FEM distributed with MPI: the reference solve at 10^6 dofs
 // and beyond, on deal.II's own parallel machinery. A fully distributed simplex
 // triangulation is built from the tet mesh (every rank holds the same TetMesh and
 // keeps its part plus a ghost layer), P1 or P2 vector elements (FE_SimplexP), and
@@ -15,9 +15,8 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
-#include <vector>
-
 #include <string>
+#include <vector>
 
 #include "material.h"
 #include "mesh_types.h"

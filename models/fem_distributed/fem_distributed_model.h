@@ -1,4 +1,4 @@
-// The fine FEM distributed over MPI ranks (issue 13): the reference solve at 10^6
+// The fine FEM distributed over MPI ranks: the reference solve at 10^6
 // dofs and beyond, on deal.II's parallel machinery (fem/distributed_elasticity.h),
 // with P1 or P2 elements, the linear or a compressible neo-Hookean law, and the
 // paper's point load or a uniform traction on a disc. `mpirun -np N tissuebench

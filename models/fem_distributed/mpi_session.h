@@ -1,4 +1,4 @@
-// MPI for the whole program (issue 13): initialised once in main, with or without
+// MPI for the whole program: initialised once in main, with or without
 // mpirun (a singleton run is one rank), finalised at exit. deal.II's
 // MPI_InitFinalize underneath, one thread per rank (tb::use_one_thread stays in
 // force on every rank).

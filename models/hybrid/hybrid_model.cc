@@ -69,8 +69,8 @@ class HybridModel : public Model {
     // surface_support coarse_fem: the surface vertices the support box holds follow
     // the coarse FEM, pinned like control points, instead of staying at rest. The
     // box clamps the coarse mesh at its own nodes only, so the coarse body can move
-    // where the surface is clamped; on the liver it moves control points 2 mm within
-    // 1.1 mm of clamped surface vertices, a band the surface folds in (README).
+    // where the surface is clamped: on the liver, control points move millimetres next
+    // to clamped surface vertices, a band the surface folds in (docs/liver_steady_state.md).
     supported_following_coarse_ = 0;
     if (!exact_control_points_ && p.parameters.choice("surface_support") == "coarse_fem") {
       std::vector<char> is_control(static_cast<size_t>(h.fine_surface.V.rows()));

@@ -1,4 +1,4 @@
-"""Metrics on hand-made fields, and the table script on a small fixture (issue 7)."""
+"""Metrics on hand-made fields, and the table script on a small fixture."""
 import json
 import os
 import shutil
@@ -186,7 +186,7 @@ class ScenariosByRole(unittest.TestCase):
 
 class AnalysisReadsTheModelListFromResults(unittest.TestCase):
     """A case the analysis code never names flows into tables 1-3 and the
-    time-vs-accuracy figure (issue 18)."""
+    time-vs-accuracy figure."""
 
     def test_extra_case_appears_everywhere(self):
         with tempfile.TemporaryDirectory() as tmp:

@@ -1,4 +1,4 @@
-"""The PositionBasedDynamics-library comparison's analysis (issue 16) on a hand-made results tree."""
+"""The PositionBasedDynamics-library comparison's analysis on a hand-made results tree."""
 import csv
 import json
 import os

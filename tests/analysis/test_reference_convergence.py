@@ -1,4 +1,4 @@
-"""The reference-convergence analysis (issue 13): matching vertices by rest
+"""The reference-convergence analysis: matching vertices by rest
 coordinates, and the tables on a small hand-made study."""
 import json
 import os

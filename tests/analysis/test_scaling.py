@@ -1,4 +1,4 @@
-"""The scaling analysis (issue 16) on a hand-made results tree."""
+"""The scaling analysis on a hand-made results tree."""
 import csv
 import json
 import os

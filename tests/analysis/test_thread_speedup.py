@@ -1,4 +1,4 @@
-"""The thread speed-up analysis (issue 16) on a hand-made Google Benchmark JSON."""
+"""The thread speed-up analysis on a hand-made Google Benchmark JSON."""
 import csv
 import json
 import os

@@ -1,5 +1,5 @@
 """The committed VTU outputs read back by an independent reader (meshio), with the
-point and cell counts summary.json states (issue 6: files ParaView opens)."""
+point and cell counts summary.json states (files ParaView opens)."""
 import glob
 import json
 import os

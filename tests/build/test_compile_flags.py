@@ -1,5 +1,5 @@
 """The flags the project's libraries are really compiled with (compile_commands.json)
-are the ones it chooses and records in run.json (issue 18): the build type's
+are the ones it chooses and records in run.json: the build type's
 optimisation level last, none of deal.II's flags outside the deal.II translation
 unit, and the recorded strings equal to what the compiler was given.
 

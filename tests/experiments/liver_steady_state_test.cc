@@ -1,4 +1,4 @@
-// The liver's steady state (issue 14): with the setting the committed liver
+// The liver's steady state: with the setting the committed liver
 // scenarios state (experiments/scenarios/liver-*.json: sub-steps, the signed bending
 // angle, and for the hybrid the supported surface following the coarse FEM), pbd and
 // the hybrid meet the runner's steady-state test on both scenarios within the frame

@@ -1,4 +1,4 @@
-// Mesh recipes of issue 14: the "shape" type, the cube's defaults shared by
+// Mesh recipes: the "shape" type, the cube's defaults shared by
 // scenario files and `tissuebench mesh --cube`, the unit-scale warning, and the
 // coarse-mesh quality fields of summary.json.
 #include "mesh_recipe.h"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The tissuebench CLI under mpirun (issue 13): `mpirun -n 2 tissuebench run`
+# The tissuebench CLI under mpirun: `mpirun -n 2 tissuebench run`
 # writes each case once (rank 0), atomically (no staging folder left), with both
 # ranks' peak memory, and the same top-surface field as one process to 1e-8.
 # Usage: mpi_run_test.sh MPIEXEC TISSUEBENCH SOURCE_DIR

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI accuracy gates (issue 12): runs the gates' experiment twice and checks every
+# CI accuracy gates: runs the gates' experiment twice and checks every
 # gate of experiments/accuracy_gates.json, printing measured beside threshold.
 #   run_accuracy_gates.sh TISSUEBENCH_CLI SOURCE_DIR
 set -euo pipefail

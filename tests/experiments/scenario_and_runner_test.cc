@@ -1,4 +1,4 @@
-// Scenario validation, divergence reporting, atomic outputs and determinism (issue 6).
+// Scenario validation, divergence reporting, atomic outputs and determinism.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
-// Sweep declarations (issue 12), and scenarios stated relative to their mesh
-// (issue 14): support as the lowest fraction of the height, load at the highest
+// Sweep declarations, and scenarios stated relative to their mesh:
+// support as the lowest fraction of the height, load at the highest
 // or nearest surface vertex; supports that cannot hold; a static solve far outside
 // its range.
 #include <gtest/gtest.h>
@@ -32,8 +32,8 @@ TEST_F(Sweeps, OneAtATimeRunsTheBaseOnceAndEachOtherLevel) {
       {"key": "models.*.parameters.iterations", "values": [5, 20]},
       {"key": "models.hybrid.parameters.bending_angle", "values": ["unsigned", "signed"], "label": "angle"}]})"));
   // "unsigned" is the default, which the base does not state: it is the base, run once.
-  EXPECT_EQ(names(e), (std::vector<std::string>{"small", "small__iterations=5", "small__iterations=20",
-                                                "small__angle=signed"}));
+  EXPECT_EQ(names(e),
+            (std::vector<std::string>{"small", "small__iterations=5", "small__iterations=20", "small__angle=signed"}));
   const Scenario& s = e.scenarios[2];
   EXPECT_EQ(s.sweep_base, "small");
   EXPECT_EQ(s.sweep_values["iterations"], 20);

@@ -1,4 +1,4 @@
-// Coarse-mesh sliver repair (issue 14): a Delaunay mesh of points on a curved
+// Coarse-mesh sliver repair: a Delaunay mesh of points on a curved
 // surface has nearly flat tets; the repair removes or re-meshes them while every
 // coarse node stays on a selected fine vertex.
 #include "coarse_mesh.h"

@@ -1,4 +1,4 @@
-// The hybrid mesh of paper 1.2 on the cube, a non-convex solid and the liver (issue 3).
+// The hybrid mesh of paper 1.2 on the cube, a non-convex solid and the liver.
 #include "hybrid_builder.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// One test per reader and per malformed input (issue 3): each error names the file
+// One test per reader and per malformed input: each error names the file
 // and the problem.
 #include <gtest/gtest.h>
 #include <unistd.h>

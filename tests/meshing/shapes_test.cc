@@ -1,4 +1,4 @@
-// The generated shapes of issue 14: closed, manifold, outward, free of
+// The generated shapes: closed, manifold, outward, free of
 // self-intersections, of the right volume, resting on z = 0, and meshable by TetGen.
 #include "shapes.h"
 

@@ -1,4 +1,4 @@
-// Refinement levels of the reference-convergence study (issue 13): the 1-to-4
+// Refinement levels of the reference-convergence study: the 1-to-4
 // split keeps the surface's vertices first and bitwise, and the mesh recipe's
 // refine_levels key scales the volume bound.
 #include "surface_subdivision.h"

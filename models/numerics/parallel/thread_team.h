@@ -1,4 +1,4 @@
-// A small persistent team of threads for the PBD sweep (issue 16): the caller is
+// A small persistent team of threads for the PBD sweep: the caller is
 // member 0, the others wait for work, and members meet at a barrier between
 // colours. OpenMP is not used: tb::use_one_thread() (models/numerics/elasticity/elastic_body.h)
 // sets omp_set_max_active_levels(0) to keep CHOLMOD single-threaded, which

@@ -1,4 +1,4 @@
-// The distributed fine FEM (issue 13), run by CTest with one rank and with two
+// The distributed fine FEM, run by CTest with one rank and with two
 // (mpirun -np 2): np = 2 against np = 1 (MPI_COMM_SELF inside the same run) and
 // against the serial direct solver, P2 against an exact quadratic solution, and
 // the neo-Hookean law against the linear one at small load. Every check is made

@@ -1,4 +1,4 @@
-// Corotational linear FEM (issue 15; Mueller and Gross 2004): the polar rotation,
+// Corotational linear FEM (Mueller and Gross 2004): the polar rotation,
 // invariance under rigid motion, agreement with linear FEM at small load, and
 // the error paths of its parameters.
 #include <gtest/gtest.h>
@@ -144,8 +144,8 @@ TEST(CorotationalSolve, EqualsLinearFemForASmallLoad) {
   // The paper's point load on its cube is singular: at 1 N the linear solution
   // moves the load point 2.4 cm, with element strains near it far beyond small.
   // The difference from linear FEM is the geometric nonlinearity, first order in
-  // the load (measured: 1.7e-5 relative at 1e-4 N), so the 1e-6 agreement of
-  // issue 15 holds from about 5e-6 N down.
+  // the load (measured: 1.7e-5 relative at 1e-4 N), so an agreement to 1e-6
+  // holds from about 5e-6 N down.
   double d[4];
   const double loads[4] = {1e-6, 1e-5, 1e-4, 1e-3};
   for (int i = 0; i < 4; ++i) {

@@ -1,4 +1,4 @@
-// The FEM reference against exact solutions and physical invariants (issue 4).
+// The FEM reference against exact solutions and physical invariants.
 #include "elastic_solve.h"
 
 #include <gtest/gtest.h>
