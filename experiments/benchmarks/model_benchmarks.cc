@@ -182,6 +182,57 @@ void BM_HybridFrame(benchmark::State& state) { model_frame(state, "hybrid"); }
 void BM_CondensedFrame(benchmark::State& state) { model_frame(state, "condensed"); }
 void BM_EmbeddedFrame(benchmark::State& state) { model_frame(state, "embedded"); }
 
+/// What a tool or a wide load costs a frame against the paper's point force, in
+/// pairs within one benchmark so the VM's drift hits both alike: each iteration
+/// steps the model once with the point force alone and once with range(1) = 1 a
+/// grasp (5 mm radius at the top, lifted), 2 a bonded plate on a side, 3 gravity
+/// added. range(0): 0 fem (direct), 1 embedded, 2 pbd, 3 hybrid. Counters: each
+/// one's ms per frame and their ratio; the iteration time is the second one's.
+void BM_FrameWithToolOrLoad(benchmark::State& state) {
+  const char* names[] = {"fem", "embedded", "pbd", "hybrid"};
+  const std::string model = names[state.range(0)];
+  const HybridMesh& mesh = cube_mesh(1);
+  const ModelInfo& info = find_model(model);
+  const auto parameters = [&] {
+    nlohmann::json p = nlohmann::json::object();
+    for (const ParameterSpec& spec : info.parameters)
+      if (spec.name == "iterations") p["iterations"] = 10;
+    return resolve_parameters(info.parameters, p, model);
+  }();
+  LoadCase base{kCubeBottom, kCubeLoad.loads(), {}}, with = base;
+  FrameLoads f_base = kCubeLoad.frame(), f_with = f_base;
+  if (state.range(1) == 1) {
+    with.tools.push_back(Tool::grasp({0.02, 0.02, 0.1}, 0.005));
+    f_with.tool_values.push_back({0, 0, 0.002});
+  } else if (state.range(1) == 2) {
+    with.tools.push_back(Tool::plate({{-1, 0.0499, 0.03}, {1, 1, 0.07}}, false));
+    f_with.tool_values.push_back({0, -0.001, 0});
+  } else {
+    with.loads.push_back(Load::body_force());
+    f_with.values.push_back({0, 0, -9.81});
+  }
+  std::unique_ptr<Model> models[2] = {info.create(), info.create()};
+  models[0]->setup(Problem{&mesh, Material{}, base, parameters, Points()});
+  models[1]->setup(Problem{&mesh, Material{}, with, parameters, Points()});
+  const FrameLoads* frames[2] = {&f_base, &f_with};
+  for (int f = 0; f < 200; ++f)
+    for (int k = 0; k < 2; ++k) models[k]->step(*frames[k]);
+  using Clock = std::chrono::steady_clock;
+  double seconds[2] = {0, 0};
+  for (auto _ : state)
+    for (int k = 0; k < 2; ++k) {
+      const auto a = Clock::now();
+      models[k]->step(*frames[k]);
+      const double s = std::chrono::duration<double>(Clock::now() - a).count();
+      seconds[k] += s;
+      if (k == 1) state.SetIterationTime(s);
+    }
+  state.counters["point_force_ms"] = benchmark::Counter(1e3 * seconds[0], benchmark::Counter::kAvgIterations);
+  state.counters["with_ms"] = benchmark::Counter(1e3 * seconds[1], benchmark::Counter::kAvgIterations);
+  state.counters["ratio"] = seconds[0] > 0 ? seconds[1] / seconds[0] : 0;
+  state.SetLabel(model + (state.range(1) == 1 ? " grasp" : state.range(1) == 2 ? " plate" : " gravity"));
+}
+
 /// The condensed model's precomputation (a back-solve per loadable surface dof) and
 /// the memory of its response matrix. range(0): 0 cube, 1 liver (needs a fine volume).
 void BM_CondensedSetup(benchmark::State& state) {
@@ -381,6 +432,11 @@ BENCHMARK(BM_HybridFrame)
 // The benchmarks' liver has no fine volume (the condensed model needs one): cube only.
 BENCHMARK(BM_CondensedFrame)->ArgNames({"liver", "iterations"})->Args({0, 10});
 BENCHMARK(BM_EmbeddedFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {10}});
+BENCHMARK(BM_FrameWithToolOrLoad)
+    ->ArgNames({"model", "with"})
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 2, 3}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CondensedSetup)->ArgName("liver")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdFrameInstructionSet)
     ->ArgNames({"isa", "single", "divisions"})
