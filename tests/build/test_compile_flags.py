@@ -5,6 +5,7 @@ unit, and the recorded strings equal to what the compiler was given.
 
 Run by CTest with the build folder as argument.
 """
+import glob
 import json
 import os
 import re
@@ -27,6 +28,18 @@ def deal_ii_units():
 
 
 DEAL_II_UNITS = deal_ii_units()
+
+
+def pbd_kernel_sources():
+    """The sources with the lane-math options, as models/CMakeLists.txt gives them
+    (TB_PBD_KERNEL_SOURCES): the scalar wrappers of the kernels and every PBD
+    constraint kind (models/numerics/pbd/<name>_kind.cc), whose kernels are
+    compiled for every instruction set in its own file."""
+    kinds = sorted(glob.glob(os.path.join(ROOT, "models", "numerics", "pbd", "*_kind.cc")))
+    return {"models/numerics/pbd/constraints.cc"} | {os.path.relpath(k, ROOT).replace(os.sep, "/") for k in kinds}
+
+
+PBD_KERNEL_SOURCES = pbd_kernel_sources()
 
 
 def code_generation_flags(args):
@@ -67,9 +80,8 @@ class CompileFlags(unittest.TestCase):
     def test_run_json_records_what_compiled_each_library(self):
         recorded = recorded_flags()
         groups = {"tb_models": lambda rel: rel.startswith("models/") and rel not in DEAL_II_UNITS and
-                  rel not in ("models/numerics/pbd/constraints.cc", "models/numerics/pbd/constraint_batches.cc"),
-                  "tb_models PBD kernel sources": lambda rel: rel in ("models/numerics/pbd/constraints.cc",
-                                                                      "models/numerics/pbd/constraint_batches.cc"),
+                  rel not in PBD_KERNEL_SOURCES,
+                  "tb_models PBD kernel sources": lambda rel: rel in PBD_KERNEL_SOURCES,
                   "tb_fem_assembly (deal.II)": lambda rel: rel in DEAL_II_UNITS,
                   "tb_meshing": lambda rel: rel.startswith("meshing/"),
                   "tb_experiments": lambda rel: rel.startswith("experiments/") and "benchmarks" not in rel and
@@ -78,6 +90,9 @@ class CompileFlags(unittest.TestCase):
             expected = code_generation_flags(shlex.split(recorded[group]))
             sources = [(rel, args) for rel, args in commands() if member(rel)]
             self.assertTrue(sources, group)
+            if group == "tb_models PBD kernel sources":  # the kinds found, and each one compiled
+                self.assertGreaterEqual(len(PBD_KERNEL_SOURCES), 3, PBD_KERNEL_SOURCES)
+                self.assertEqual({rel for rel, _ in sources}, PBD_KERNEL_SOURCES)
             for rel, args in sources:
                 # The standard flag CMake adds from CMAKE_CXX_STANDARD is not a flag the project writes.
                 actual = [a for a in code_generation_flags(args) if not a.startswith("-std")]

@@ -3,14 +3,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <numeric>
 #include <stdexcept>
 
 #include "constraints.h"
 #include "domain_partition.h"
 #include "mesh_checks.h"
-#include "reference_projections.h"
 #include "xpbd_compliance.h"
 
 namespace tb::pbd {
@@ -49,15 +47,18 @@ std::vector<ParameterSpec> parameter_specs() {
   using P = ParameterSpec;
   const Settings d;  // each default stated once, in Settings
   auto name_of = [](bool first, const char* a, const char* b) { return first ? a : b; };
-  return {
+  std::vector<ParameterSpec> specs = {
       P::number("time_step", d.time_step, 1e-6, 1.0, "time step per frame, s"),
       P::whole_number("substeps", d.substeps, 1, 1000,
                       "sub-steps per frame (Macklin et al. 2019): each frame runs this many steps of "
                       "time_step / substeps, each with eqs. (31)-(35) and `iterations` sweeps (pinned control points "
                       "held at the frame's positions); 1: the paper's step"),
       P::whole_number("iterations", d.iterations, 1, 1000, "Gauss-Seidel projection sweeps per (sub)step"),
-      P::number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0, "stretch constraint stiffness k in [0, 1]"),
-      P::number("bending_stiffness", d.bending_stiffness, 0.0, 1.0, "bending constraint stiffness k in [0, 1]"),
+  };
+  for (const ConstraintKind* kind : surface_constraint_kinds())
+    specs.push_back(P::number(kind->stiffness_parameter(), Settings::kDefaultStiffness, 0.0, 1.0,
+                              std::string(kind->name) + " constraint stiffness k in [0, 1]"));
+  const std::vector<ParameterSpec> rest = {
       P::choice("stiffness_correction", {"mueller2007", "none"}, name_of(d.correct_stiffness, "mueller2007", "none"),
                 "mueller2007: per-iteration stiffness 1-(1-k)^(1/n); none: k as given"),
       P::number("damping", d.damping, 0.0, 1.0,
@@ -91,16 +92,24 @@ std::vector<ParameterSpec> parameter_specs() {
                 "the sweep's vector instructions; auto: avx512vl (256-bit vectors, 32 registers) where the CPU has "
                 "it, else avx, else sse2 (avx512, 512-bit, measured slower on "
                 "this project's AMD EPYC: only when asked); double precision gives the same numbers on every one"),
-      P::choice("constraint_solve", {"pbd", "xpbd"}, name_of(d.constraint_solve == ConstraintSolve::Pbd, "pbd", "xpbd"),
-                "pbd: the paper's projections with stretch_stiffness and bending_stiffness in [0, 1]; xpbd: Macklin, "
-                "Mueller, Chentanez 2016, compliance per constraint from the material (stretch k = E h A_e / L_e^2, "
-                "bending k = 3 D L_e^2 / A_e with D = E h^3 / (12 (1 - nu^2)); models/numerics/pbd/xpbd_compliance.h) and "
-                "Lagrange multipliers accumulated over the frame's iterations; needs kernels 'reference', "
-                "bending_angle 'signed' and the stiffnesses at 1"),
+      P::choice(
+          "constraint_solve", {"pbd", "xpbd"}, name_of(d.constraint_solve == ConstraintSolve::Pbd, "pbd", "xpbd"),
+          "pbd: the paper's projections with stretch_stiffness and bending_stiffness in [0, 1]; xpbd: Macklin, "
+          "Mueller, Chentanez 2016, compliance per constraint from the material (stretch k = E h A_e / L_e^2, "
+          "bending k = 3 D L_e^2 / A_e with D = E h^3 / (12 (1 - nu^2)); models/numerics/pbd/xpbd_compliance.h) and "
+          "Lagrange multipliers accumulated over the frame's iterations; needs kernels 'reference', "
+          "bending_angle 'signed' and the stiffnesses at 1"),
       P::number("shell_thickness", d.shell_thickness, 0.0, 10.0,
                 "xpbd: thickness h of the shell the surface stands for, m; 0: the body's enclosed volume / surface "
                 "area (a shell holding the body's volume; 1/6 of the side of a cube)"),
   };
+  specs.insert(specs.end(), rest.begin(), rest.end());
+  return specs;
+}
+
+double Settings::stiffness_of(const std::string& kind) const {
+  const auto found = stiffness.find(kind);
+  return found == stiffness.end() ? kDefaultStiffness : found->second;
 }
 
 Settings Settings::from(const Parameters& p) {
@@ -108,8 +117,8 @@ Settings Settings::from(const Parameters& p) {
   s.time_step = p.number("time_step");
   s.substeps = p.integer("substeps");
   s.iterations = p.integer("iterations");
-  s.stretch_stiffness = p.number("stretch_stiffness");
-  s.bending_stiffness = p.number("bending_stiffness");
+  for (const ConstraintKind* kind : surface_constraint_kinds())
+    s.stiffness[kind->name] = p.number(kind->stiffness_parameter());
   s.correct_stiffness = p.choice("stiffness_correction") == "mueller2007";
   s.damping = p.number("damping");
   s.bending_angle = p.choice("bending_angle") == "signed" ? BendingAngle::Signed : BendingAngle::Unsigned;
@@ -143,10 +152,15 @@ Settings Settings::from(const Parameters& p) {
       throw std::invalid_argument(
           "PBD parameters: constraint_solve 'xpbd' needs bending_angle 'signed' (its multipliers accumulate "
           "over a frame, and |theta| flips its gradient where a pair passes through flat)");
-    if (s.stretch_stiffness != 1 || s.bending_stiffness != 1)
-      throw std::invalid_argument(
-          "PBD parameters: constraint_solve 'xpbd' derives its stiffness from the material: stretch_stiffness and "
-          "bending_stiffness must stay 1 (set shell_thickness or the material instead)");
+    std::string stiffnesses;  // "stretch_stiffness and bending_stiffness"
+    bool all_one = true;
+    for (const ConstraintKind* kind : surface_constraint_kinds()) {
+      stiffnesses += (stiffnesses.empty() ? "" : " and ") + kind->stiffness_parameter();
+      all_one = all_one && s.stiffness_of(kind->name) == 1;
+    }
+    if (!all_one)
+      throw std::invalid_argument("PBD parameters: constraint_solve 'xpbd' derives its stiffness from the material: " +
+                                  stiffnesses + " must stay 1 (set shell_thickness or the material instead)");
   } else if (s.shell_thickness != 0) {
     throw std::invalid_argument("PBD parameters: shell_thickness applies to constraint_solve 'xpbd' only");
   }
@@ -157,42 +171,6 @@ Settings Settings::from(const Parameters& p, const Material& material) {
   Settings s = from(p);
   s.material = material;
   return s;
-}
-
-ConstraintSet build_constraints(const SurfaceMesh& s) {
-  // Each edge with its triangles' opposite vertices, in (min, max) edge order so the
-  // constraint order is deterministic.
-  std::map<std::pair<int, int>, std::vector<std::array<int, 3>>> edges;  // (a, b, opposite) as traversed
-  for (Eigen::Index t = 0; t < s.F.rows(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = s.F(t, k), b = s.F(t, (k + 1) % 3), o = s.F(t, (k + 2) % 3);
-      edges[{std::min(a, b), std::max(a, b)}].push_back({{a, b, o}});
-    }
-  ConstraintSet c;
-  c.stretch.resize(static_cast<Eigen::Index>(edges.size()), 2);
-  c.stretch_rest.resize(static_cast<Eigen::Index>(edges.size()));
-  std::vector<std::array<int, 4>> bends;
-  Eigen::Index i = 0;
-  for (const auto& [e, tris] : edges) {
-    c.stretch.row(i) << e.first, e.second;
-    c.stretch_rest(i) = (s.V.row(e.first) - s.V.row(e.second)).norm();
-    ++i;
-    if (tris.size() == 2) {
-      // p1 -> p2 as the first triangle traverses the edge, p3 its opposite vertex,
-      // p4 the other triangle's: triangles (p1, p2, p3) and (p2, p1, p4), as
-      // constraints.h expects.
-      bends.push_back({{tris[0][0], tris[0][1], tris[0][2], tris[1][2]}});
-    }
-  }
-  c.bending.resize(static_cast<Eigen::Index>(bends.size()), 4);
-  c.bending_rest.resize(static_cast<Eigen::Index>(bends.size()));
-  for (size_t b = 0; b < bends.size(); ++b) {
-    const auto& q = bends[b];
-    c.bending.row(static_cast<Eigen::Index>(b)) << q[0], q[1], q[2], q[3];
-    c.bending_rest(static_cast<Eigen::Index>(b)) = signed_normal_angle(
-        s.V.row(q[0]).transpose(), s.V.row(q[1]).transpose(), s.V.row(q[2]).transpose(), s.V.row(q[3]).transpose());
-  }
-  return c;
 }
 
 Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
@@ -207,14 +185,15 @@ Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& s, double density) {
   return area * (density * enclosed_volume(s) / total_area);
 }
 
-Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings)
+Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings,
+               const KindTable& kinds)
     : rest_(rest.V),
       x_(rest.V),
       v_(Points::Zero(rest.V.rows(), 3)),
       p_(settings.precision == Precision::Single ? 0 : rest.V.rows()),
       q_(settings.precision == Precision::Single ? rest.V.rows() : 0),
       w_(one_per_vertex(inverse_mass, rest.V.rows())),
-      c_(build_constraints(rest)),
+      c_(build_constraints(rest, kinds)),
       s_(settings),
       isa_(s_.instruction_set.value_or(best_instruction_set())),
       domain_(bisect_into_domains(rest.V, s_.domains, free_vertices(w_))),
@@ -222,9 +201,10 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
       batches_(pack_batches(batch_width(isa_, s_.precision))) {
   if (!cpu_supports(isa_))
     throw std::invalid_argument(std::string("PBD solver: instruction_set ") + name(isa_) + " is not on this CPU");
-  k_stretch_ =
-      s_.correct_stiffness ? stiffness_per_iteration(s_.stretch_stiffness, s_.iterations) : s_.stretch_stiffness;
-  k_bend_ = s_.correct_stiffness ? stiffness_per_iteration(s_.bending_stiffness, s_.iterations) : s_.bending_stiffness;
+  for (const KindConstraints& kind : c_.kinds) {
+    const double k = s_.stiffness_of(kind.kind->name);
+    k_.push_back(s_.correct_stiffness ? stiffness_per_iteration(k, s_.iterations) : k);
+  }
   if (s_.threads < 1) throw std::invalid_argument("PBD solver: threads must be at least 1");
   if (s_.substeps < 1)
     throw std::invalid_argument("PBD solver: substeps must be at least 1 (" + std::to_string(s_.substeps) + " given)");
@@ -235,13 +215,16 @@ Solver::Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, con
     if (s_.kernels != Kernels::Reference || s_.bending_angle != BendingAngle::Signed)
       throw std::invalid_argument("PBD solver: XPBD runs with the reference kernels and the signed bending angle");
     thickness_ = s_.shell_thickness > 0 ? s_.shell_thickness : volume_preserving_thickness(rest);
-    const double E = s_.material.youngs_modulus, h = s_.time_step / s_.substeps, h2 = h * h;
-    stretch_alpha_ = stretch_compliances(rest, c_, E, thickness_);
-    bending_alpha_ = bending_compliances(rest, c_, E, s_.material.poisson_ratio, thickness_);
-    stretch_alpha_tilde_ = stretch_alpha_ / h2;  // XPBD eq. (4): alpha~ = alpha / dt^2, dt the sub-step h
-    bending_alpha_tilde_ = bending_alpha_ / h2;
-    stretch_lambda_ = Eigen::VectorXd::Zero(c_.stretch.rows());  // allocated here, reset each sub-step
-    bending_lambda_ = Eigen::VectorXd::Zero(c_.bending.rows());
+    const double h = s_.time_step / s_.substeps, h2 = h * h;
+    const ShellMaterial shell{s_.material.youngs_modulus, s_.material.poisson_ratio, thickness_};
+    for (const KindConstraints& kind : c_.kinds) {
+      alpha_.push_back(kind.kind->compliance(rest, kind, shell));
+      alpha_tilde_.push_back(alpha_.back() / h2);             // XPBD eq. (4): alpha~ = alpha / dt^2, dt the sub-step h
+      lambda_.push_back(Eigen::VectorXd::Zero(kind.size()));  // allocated here, reset each sub-step
+    }
+  } else {
+    alpha_.resize(c_.kinds.size());
+    lambda_.resize(c_.kinds.size());
   }
 }
 
@@ -303,16 +286,16 @@ void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values,
   }
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
+  const ProjectionOptions options{s_.bending_angle};
   if (single) {
-    batches_.project(q_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
+    batches_.project(q_.data(), s_.iterations, k_, options, isa_, team_.get());
   } else if (s_.kernels == Kernels::Simd) {
-    batches_.project(p_.data(), s_.iterations, k_stretch_, k_bend_, s_.bending_angle, isa_, team_.get());
-  } else if (s_.constraint_solve == ConstraintSolve::Xpbd) {
-    stretch_lambda_.setZero();  // XPBD: the multipliers start from 0 each (sub)step
-    bending_lambda_.setZero();
-    for (int it = 0; it < s_.iterations; ++it) xpbd_sweep(it % 2 == 1);
+    batches_.project(p_.data(), s_.iterations, k_, options, isa_, team_.get());
   } else {
-    for (int it = 0; it < s_.iterations; ++it) reference_sweep(it % 2 == 1);
+    const bool xpbd = s_.constraint_solve == ConstraintSolve::Xpbd;
+    if (xpbd)
+      for (Eigen::VectorXd& lambda : lambda_) lambda.setZero();  // XPBD: the multipliers start from 0 each (sub)step
+    for (int it = 0; it < s_.iterations; ++it) scalar_sweep(it % 2 == 1, xpbd);
   }
   const auto t2 = Clock::now();
   for_vertex_ranges([&](Eigen::Index begin, Eigen::Index end) {  // eqs. (35) and (34)
@@ -349,9 +332,10 @@ nlohmann::json Solver::details() const {
   if (s_.constraint_solve == ConstraintSolve::Xpbd) {
     d["shell_thickness_m"] = thickness_;
     // k = 1 / alpha: N/m for stretch, N m for bending
-    d["stretch_stiffness_N_per_m"] = {1 / stretch_alpha_.maxCoeff(), 1 / stretch_alpha_.minCoeff()};
-    if (bending_alpha_.size() > 0)
-      d["bending_stiffness_N_m"] = {1 / bending_alpha_.maxCoeff(), 1 / bending_alpha_.minCoeff()};
+    for (size_t k = 0; k < c_.kinds.size(); ++k)
+      if (alpha_[k].size() > 0)
+        d[std::string(c_.kinds[k].kind->name) + "_stiffness_" + c_.kinds[k].kind->stiffness_unit] = {
+            1 / alpha_[k].maxCoeff(), 1 / alpha_[k].minCoeff()};
   }
   return d;
 }
@@ -365,8 +349,8 @@ ConstraintBatches Solver::pack_batches(int width) const {
   if (row_of_.empty()) return ConstraintBatches(c_, w_, width, s_.precision);
   // The same constraints (rows, order, colours: the numbers do not change) on rows of p_.
   ConstraintSet on_rows = c_;
-  for (Eigen::Index i = 0; i < on_rows.stretch.size(); ++i) on_rows.stretch.data()[i] = row(on_rows.stretch.data()[i]);
-  for (Eigen::Index i = 0; i < on_rows.bending.size(); ++i) on_rows.bending.data()[i] = row(on_rows.bending.data()[i]);
+  for (KindConstraints& kind : on_rows.kinds)
+    for (Eigen::Index i = 0; i < kind.vertices.size(); ++i) kind.vertices.data()[i] = row(kind.vertices.data()[i]);
   Eigen::VectorXd w_of_row(w_.size());
   std::vector<int> domain_of_row(domain_.size());
   for (Eigen::Index v = 0; v < w_.size(); ++v) {
@@ -376,54 +360,28 @@ ConstraintBatches Solver::pack_batches(int width) const {
   return ConstraintBatches(on_rows, w_of_row, width, s_.precision, domain_of_row);
 }
 
-template <class ProjectStretch, class ProjectBending>
-void Solver::scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending) {
-  double* x = p_.data();
-  auto P = [this, x](int v) { return Eigen::Map<Vec3>(x + ConstraintBatches::kPositionStride * row(v)); };
-  const std::vector<int>& so = batches_.stretch_order();
-  for (size_t k = 0; k < so.size(); ++k) {
-    const int i = so[reverse ? so.size() - 1 - k : k];
-    const int a = c_.stretch(i, 0), b = c_.stretch(i, 1);
-    Vec3 ca, cb;
-    stretch(i, P(a), w_(a), P(b), w_(b), ca, cb);
-    P(a) += ca;
-    P(b) += cb;
-  }
-  if (!with_bending) return;
-  const std::vector<int>& bo = batches_.bending_order();
-  for (size_t k = 0; k < bo.size(); ++k) {
-    const int i = bo[reverse ? bo.size() - 1 - k : k];
-    int q[4];
-    for (int j = 0; j < 4; ++j) q[j] = c_.bending(i, j);
-    Vec3 corr[4];
-    bending(i, P(q[0]), w_(q[0]), P(q[1]), w_(q[1]), P(q[2]), w_(q[2]), P(q[3]), w_(q[3]), corr);
-    for (int j = 0; j < 4; ++j) P(q[j]) += corr[j];
+void Solver::scalar_sweep(bool reverse, bool xpbd) {
+  const int* row_of = row_of_.empty() ? nullptr : row_of_.data();
+  for (size_t k = 0; k < c_.kinds.size(); ++k) {
+    if (!xpbd && !(k_[k] > 0)) continue;
+    const KindConstraints& kind = c_.kinds[k];
+    const ScalarPass pass{p_.data(),
+                          row_of,
+                          w_,
+                          kind,
+                          batches_.kinds()[k].order,
+                          {s_.bending_angle},
+                          k_[k],
+                          xpbd ? &alpha_tilde_[k] : nullptr,
+                          &lambda_[k]};
+    (xpbd ? kind.kind->xpbd_pass : kind.kind->reference_pass)(pass, reverse);
   }
 }
 
-void Solver::reference_sweep(bool reverse) {
-  scalar_sweep(
-      reverse, k_bend_ > 0,
-      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
-        reference::project_stretch(a, wa, b, wb, c_.stretch_rest(i), k_stretch_, ca, cb);
-      },
-      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
-             double w4, Vec3* corr) {
-        reference::project_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), k_bend_, corr, s_.bending_angle);
-      });
-}
-
-void Solver::xpbd_sweep(bool reverse) {
-  scalar_sweep(
-      reverse, true,
-      [this](int i, const Vec3& a, double wa, const Vec3& b, double wb, Vec3& ca, Vec3& cb) {
-        reference::xpbd_stretch(a, wa, b, wb, c_.stretch_rest(i), stretch_alpha_tilde_(i), stretch_lambda_(i), ca, cb);
-      },
-      [this](int i, const Vec3& p1, double w1, const Vec3& p2, double w2, const Vec3& p3, double w3, const Vec3& p4,
-             double w4, Vec3* corr) {
-        reference::xpbd_bending(p1, w1, p2, w2, p3, w3, p4, w4, c_.bending_rest(i), bending_alpha_tilde_(i),
-                                bending_lambda_(i), corr, s_.bending_angle);
-      });
+size_t Solver::kind_index(const std::string& name) const {
+  for (size_t k = 0; k < c_.kinds.size(); ++k)
+    if (name == c_.kinds[k].kind->name) return k;
+  throw std::invalid_argument("PBD solver: no constraint kind '" + name + "'");
 }
 
 }  // namespace tb::pbd

@@ -1,15 +1,22 @@
 // The PBD time step of paper 1.4-1.5 on a triangle surface: state (positions,
-// velocities, inverse masses) and the constraint set, wired to the stateless
-// projections of constraints.h. Shared by the pure PBD and the hybrid models.
+// velocities, inverse masses) and the constraint set of every kind of the table
+// (constraint_kinds.h), projected by the batched SIMD sweep (constraint_batches.h)
+// or one at a time by the kinds' reference projections. Shared by the pure PBD and
+// the hybrid models.
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "aligned_rows.h"
 #include "constraint_batches.h"
+#include "constraint_kinds.h"
 #include "constraints.h"
+#include "instruction_set.h"
 #include "load_mapping.h"
 #include "material.h"
 #include "mesh_types.h"
@@ -18,7 +25,8 @@
 
 namespace tb::pbd {
 
-/// The PBD parameters common to the pbd and hybrid models, declared once.
+/// The PBD parameters common to the pbd and hybrid models, declared once; a
+/// stiffness "<kind>_stiffness" for each kind of surface_constraint_kinds().
 std::vector<ParameterSpec> parameter_specs();
 
 /// Which implementation projects the constraints: the batched SIMD kernels
@@ -40,15 +48,18 @@ enum class LoadSpread { NearestVertex, SurfaceTriangle };
 enum class ConstraintSolve { Pbd, Xpbd };
 
 struct Settings {
-  double time_step = 0.01;                              ///< s, per frame
+  double time_step = 0.01;  ///< s, per frame
   /// Sub-steps per frame (Macklin et al. 2019, "Small steps in physics simulation"):
   /// a frame runs `substeps` time steps of time_step / substeps, each with eqs.
   /// (31)-(35) and `iterations` sweeps. 1: the paper's step.
   int substeps = 1;
-  int iterations = 10;                                  ///< Gauss-Seidel sweeps per (sub)step
-  double stretch_stiffness = 1;                         ///< in [0, 1]
-  double bending_stiffness = 1;                         ///< in [0, 1]
-  bool correct_stiffness = true;                        ///< Mueller 2007: 1 - (1 - k)^(1/n)
+  int iterations = 10;  ///< Gauss-Seidel sweeps per (sub)step
+  /// Each kind's stiffness in [0, 1] by kind name (parameter <name>_stiffness); a
+  /// kind not named here has kDefaultStiffness. A kind with stiffness 0 is not swept.
+  std::map<std::string, double> stiffness;
+  static constexpr double kDefaultStiffness = 1;
+  double stiffness_of(const std::string& kind) const;
+  bool correct_stiffness = true;  ///< Mueller 2007: 1 - (1 - k)^(1/n)
   /// Fraction of velocity removed per (sub)step, after eq. (31) adds the force: a
   /// steady state applies (1 - damping) f whatever `substeps` is; a frame keeps
   /// (1 - damping)^substeps of its velocity.
@@ -80,19 +91,6 @@ struct Settings {
   static Settings from(const Parameters& p, const Material& material);
 };
 
-/// Stretch constraints on every edge, bending constraints on every interior edge.
-///   stretch  #S by 2 vertex pairs, stretch_rest #S rest lengths
-///   bending  #B by 4 (p1, p2 shared edge; p3, p4 wings), bending_rest #B signed
-///   rest angles (signed_normal_angle)
-struct ConstraintSet {
-  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> stretch;
-  Eigen::VectorXd stretch_rest;
-  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> bending;
-  Eigen::VectorXd bending_rest;
-};
-/// Builds the constraints of a closed manifold surface at its rest shape.
-ConstraintSet build_constraints(const SurfaceMesh& surface);
-
 /// Lumped masses: total mass = density x enclosed volume, shared among vertices in
 /// proportion to one third of the area of their incident triangles.
 ///   returns #V masses (kg)
@@ -101,8 +99,10 @@ Eigen::VectorXd lumped_surface_masses(const SurfaceMesh& surface, double density
 class Solver {
  public:
   /// inverse_mass #V (0 = fixed: the clamped support and, in the hybrid, the
-  /// control points, which the projection never moves).
-  Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings);
+  /// control points, which the projection never moves); the constraints of each
+  /// kind of `kinds`, projected in its order.
+  Solver(const SurfaceMesh& rest, const Eigen::VectorXd& inverse_mass, const Settings& settings,
+         const KindTable& kinds = surface_constraint_kinds());
 
   /// The external loads (eq. 31), each spread over vertices: vertex nodes(k) of
   /// load l receives weights(k) times load l's value. A set-up call; none by default.
@@ -136,14 +136,14 @@ class Solver {
   /// What the projection ran with, for run.json: {"instruction_set": "avx512" | "avx512vl" |
   /// "avx" | "sse2" | "scalar" (reference kernels), "lanes": per batch, "precision",
   /// "threads", "constraint_solve": "pbd" | "xpbd"}, and with xpbd
-  /// "shell_thickness_m" (as used) and the stiffness range of each kind.
+  /// "shell_thickness_m" (as used) and the stiffness range of each kind
+  /// ("<kind>_stiffness_<unit>": stretch N_per_m, bending N_m).
   nlohmann::json details() const;
-  /// XPBD: per-constraint compliances alpha (stretch m/N, bending 1/(N m)), one per
-  /// ConstraintSet row, and the Lagrange multipliers of the last (sub)step; empty for PBD.
-  const Eigen::VectorXd& stretch_compliance() const { return stretch_alpha_; }
-  const Eigen::VectorXd& bending_compliance() const { return bending_alpha_; }
-  const Eigen::VectorXd& stretch_multipliers() const { return stretch_lambda_; }
-  const Eigen::VectorXd& bending_multipliers() const { return bending_lambda_; }
+  /// XPBD: the per-constraint compliances alpha of the kind named `kind` (stretch
+  /// m/N, bending 1/(N m)), one per row of its constraints, and its Lagrange
+  /// multipliers of the last (sub)step; empty for PBD.
+  const Eigen::VectorXd& compliance(const std::string& kind) const { return alpha_[kind_index(kind)]; }
+  const Eigen::VectorXd& multipliers(const std::string& kind) const { return lambda_[kind_index(kind)]; }
   /// XPBD: the shell thickness the compliances were derived with (m); 0 for PBD.
   double shell_thickness() const { return thickness_; }
 
@@ -163,14 +163,16 @@ class Solver {
   /// sweeps are contiguous in memory (interleaved rows put cache lines under two
   /// threads' writes: measured slower on two threads than on one). Empty: row = vertex.
   std::vector<int> row_of_;
-  ConstraintBatches batches_;  // c_ ordered and packed for the sweep, on rows of p_
-  double k_stretch_, k_bend_;
+  ConstraintBatches batches_;         // c_ ordered and packed for the sweep, on rows of p_
+  std::vector<double> k_;             // each kind's stiffness per iteration (Mueller 2007), in c_'s order
   std::unique_ptr<ThreadTeam> team_;  // null with one thread
   double projection_ms_ = 0, integration_ms_ = 0;
-  // XPBD (empty for PBD): compliances, alpha / h^2 (h the sub-step), and the multipliers, per constraint row.
-  Eigen::VectorXd stretch_alpha_, bending_alpha_, stretch_alpha_tilde_, bending_alpha_tilde_;
-  Eigen::VectorXd stretch_lambda_, bending_lambda_;
+  // XPBD (empty for PBD), per kind of c_ and constraint row: compliances, alpha / h^2
+  // (h the sub-step), and the multipliers.
+  std::vector<Eigen::VectorXd> alpha_, alpha_tilde_, lambda_;
   double thickness_ = 0;
+  /// The position of the kind named `kind` in c_ (std::invalid_argument if none).
+  size_t kind_index(const std::string& kind) const;
   /// c_ and w_ on rows of p_ (row_of_), ordered and packed in `width` lanes.
   ConstraintBatches pack_batches(int width) const;
   /// The row of p_ holding vertex v.
@@ -183,15 +185,10 @@ class Solver {
   /// not depend on the range, so that the result does not depend on the thread count.
   template <class RangeBody>
   void for_vertex_ranges(RangeBody&& body);
-  /// One sweep with the reference projections, in the batches' order.
-  void reference_sweep(bool reverse);
-  /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked):
-  /// stretch(i, p_a, w_a, p_b, w_b, corr_a, corr_b) for each stretch constraint i,
-  /// then bending(i, p1, w1, ..., p4, w4, corr[4]) for each bending constraint.
-  template <class ProjectStretch, class ProjectBending>
-  void scalar_sweep(bool reverse, bool with_bending, ProjectStretch&& stretch, ProjectBending&& bending);
-  /// One XPBD sweep (reference projections), in the batches' order.
-  void xpbd_sweep(bool reverse);
+  /// One scalar Gauss-Seidel sweep in the batches' order (reversed if asked), kind by
+  /// kind: the kinds' reference projections (PBD; a kind with stiffness 0 skipped)
+  /// or their XPBD updates (every kind).
+  void scalar_sweep(bool reverse, bool xpbd);
 };
 
 }  // namespace tb::pbd

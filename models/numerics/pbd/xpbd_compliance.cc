@@ -7,7 +7,6 @@
 #include <utility>
 
 #include "mesh_checks.h"
-#include "pbd_solver.h"
 
 namespace tb::pbd {
 namespace {
@@ -41,7 +40,7 @@ double volume_preserving_thickness(const SurfaceMesh& s) {
   return volume / area;
 }
 
-Eigen::VectorXd stretch_compliances(const SurfaceMesh& s, const ConstraintSet& c, double E, double h) {
+Eigen::VectorXd stretch_compliances(const SurfaceMesh& s, const KindConstraints& c, double E, double h) {
   check_material(E, h);
   std::map<std::pair<int, int>, double> edge_area;  // A_e: the areas of the triangles sharing each edge
   for (Eigen::Index t = 0; t < s.F.rows(); ++t) {
@@ -51,26 +50,26 @@ Eigen::VectorXd stretch_compliances(const SurfaceMesh& s, const ConstraintSet& c
       edge_area[{std::min(a, b), std::max(a, b)}] += A;
     }
   }
-  Eigen::VectorXd alpha(c.stretch.rows());
-  for (Eigen::Index i = 0; i < c.stretch.rows(); ++i) {
-    const int a = c.stretch(i, 0), b = c.stretch(i, 1);
+  Eigen::VectorXd alpha(c.size());
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const int a = c.vertices(i, 0), b = c.vertices(i, 1);
     const auto found = edge_area.find({std::min(a, b), std::max(a, b)});
-    const double L = c.stretch_rest(i), A = found == edge_area.end() ? 0.0 : found->second;
+    const double L = c.rest(i, 0), A = found == edge_area.end() ? 0.0 : found->second;
     if (!(L > 0) || !(A > 0)) degenerate("stretch", i);
     alpha(i) = L * L / (E * h * A);  // 1 / k_e, k_e = E h A_e / L_e^2
   }
   return alpha;
 }
 
-Eigen::VectorXd bending_compliances(const SurfaceMesh& s, const ConstraintSet& c, double E, double nu, double h) {
+Eigen::VectorXd bending_compliances(const SurfaceMesh& s, const KindConstraints& c, double E, double nu, double h) {
   check_material(E, h);
   if (!(nu > -1 && nu <= 0.5))
     throw std::invalid_argument("XPBD compliance: Poisson's ratio must lie in (-1, 0.5] (" + std::to_string(nu) +
                                 " given)");
   const double D = E * h * h * h / (12 * (1 - nu * nu));  // flexural rigidity, N m
-  Eigen::VectorXd alpha(c.bending.rows());
-  for (Eigen::Index i = 0; i < c.bending.rows(); ++i) {
-    const int p1 = c.bending(i, 0), p2 = c.bending(i, 1), p3 = c.bending(i, 2), p4 = c.bending(i, 3);
+  Eigen::VectorXd alpha(c.size());
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const int p1 = c.vertices(i, 0), p2 = c.vertices(i, 1), p3 = c.vertices(i, 2), p4 = c.vertices(i, 3);
     const double L = (s.V.row(p2) - s.V.row(p1)).norm();
     const double A = triangle_area(s.V, p1, p2, p3) + triangle_area(s.V, p2, p1, p4);
     if (!(L > 0) || !(A > 0)) degenerate("bending", i);

@@ -33,29 +33,30 @@
 
 #include <Eigen/Core>
 
+#include "constraint_kind.h"
 #include "mesh_types.h"
 
 namespace tb::pbd {
-
-struct ConstraintSet;
 
 /// The thickness of a shell holding the body's volume: enclosed volume / surface
 /// area (m); 1/6 of the side for a cube (16.7 mm on the paper's 0.1 m cube).
 double volume_preserving_thickness(const SurfaceMesh& surface);
 
-/// Stretch compliances alpha_e = L_e^2 / (E h A_e) (m/N), one per row of
-/// c.stretch, at the rest shape `surface` (the one the constraints were built from).
+/// Stretch compliances alpha_e = L_e^2 / (E h A_e) (m/N), one per stretch
+/// constraint (rows of `stretch`: edge ends, rest length), at the rest shape
+/// `surface` (the one the constraints were built from).
 /// Throws std::invalid_argument for E <= 0, h <= 0, or an edge with zero rest length
 /// or zero area.
 ///   returns #S compliances
-Eigen::VectorXd stretch_compliances(const SurfaceMesh& surface, const ConstraintSet& c, double youngs_modulus,
+Eigen::VectorXd stretch_compliances(const SurfaceMesh& surface, const KindConstraints& stretch, double youngs_modulus,
                                     double thickness);
 
-/// Bending compliances alpha_e = A_e / (3 D L_e^2) (1/(N m)), one per row of
-/// c.bending, D = E h^3 / (12 (1 - nu^2)). Throws std::invalid_argument for E <= 0,
+/// Bending compliances alpha_e = A_e / (3 D L_e^2) (1/(N m)), one per bending
+/// constraint (rows of `bending`: p1, p2 the hinge, p3, p4 the wings),
+/// D = E h^3 / (12 (1 - nu^2)). Throws std::invalid_argument for E <= 0,
 /// h <= 0, nu outside (-1, 0.5], or a degenerate hinge.
 ///   returns #B compliances
-Eigen::VectorXd bending_compliances(const SurfaceMesh& surface, const ConstraintSet& c, double youngs_modulus,
+Eigen::VectorXd bending_compliances(const SurfaceMesh& surface, const KindConstraints& bending, double youngs_modulus,
                                     double poisson_ratio, double thickness);
 
 }  // namespace tb::pbd

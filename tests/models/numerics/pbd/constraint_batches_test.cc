@@ -115,27 +115,28 @@ void sequential_sweep(const DisturbedCube& c, const ConstraintBatches& b, Eigen:
     x(v, 2) += d.z;
   };
   auto w = [&c](int v) { return static_cast<S>(c.inverse_mass(v)); };
-  const std::vector<int>& so = b.stretch_order();
+  const KindConstraints& stretch = c.constraints.of("stretch");
+  const std::vector<int>& so = b.of("stretch").order;
   for (size_t k = 0; k < so.size(); ++k) {
     const int i = so[reverse ? so.size() - 1 - k : k];
-    const int a = c.constraints.stretch(i, 0), d = c.constraints.stretch(i, 1);
+    const int a = stretch.vertices(i, 0), d = stretch.vertices(i, 1);
     S share_a, share_d;
     kernels::stretch_shares(w(a), w(d), share_a, share_d);
     Triple<S> ca, cd;
-    kernels::project_stretch(get(a), share_a, get(d), share_d, static_cast<S>(c.constraints.stretch_rest(i)), ks, ca,
-                             cd);
+    kernels::project_stretch(get(a), share_a, get(d), share_d, static_cast<S>(stretch.rest(i, 0)), ks, ca, cd);
     add(a, ca);
     add(d, cd);
   }
-  const std::vector<int>& bo = b.bending_order();
+  const KindConstraints& bending = c.constraints.of("bending");
+  const std::vector<int>& bo = b.of("bending").order;
   for (size_t k = 0; k < bo.size(); ++k) {
     const int i = bo[reverse ? bo.size() - 1 - k : k];
     int q[4];
-    for (int j = 0; j < 4; ++j) q[j] = c.constraints.bending(i, j);
+    for (int j = 0; j < 4; ++j) q[j] = bending.vertices(i, j);
     const Triple<S> p[4] = {get(q[0]), get(q[1]), get(q[2]), get(q[3])};
     const S wq[4] = {w(q[0]), w(q[1]), w(q[2]), w(q[3])};
     Triple<S> corr[4];
-    kernels::project_bending(p, wq, static_cast<S>(c.constraints.bending_rest(i)), kb, kind, corr);
+    kernels::project_bending(p, wq, static_cast<S>(bending.rest(i, 0)), kb, kind, corr);
     for (int j = 0; j < 4; ++j) add(q[j], corr[j]);
   }
 }
@@ -166,13 +167,14 @@ TEST(ConstraintBatches, EveryMovableConstraintIsProjectedOnce) {
   const DisturbedCube cube;
   for (int width : {4, 8, 16}) {
     const ConstraintBatches batches(cube.constraints, cube.inverse_mass, width);
-    expect_every_movable_constraint_once(cube.constraints.stretch, batches.stretch_order(), cube.inverse_mass);
-    expect_every_movable_constraint_once(cube.constraints.bending, batches.bending_order(), cube.inverse_mass);
+    const KindBatches &stretch = batches.of("stretch"), &bending = batches.of("bending");
+    expect_every_movable_constraint_once(cube.constraints.of("stretch").vertices, stretch.order, cube.inverse_mass);
+    expect_every_movable_constraint_once(cube.constraints.of("bending").vertices, bending.order, cube.inverse_mass);
     // Batches are mostly full: the colouring leaves few partial ones.
-    const size_t full = (batches.stretch_order().size() + width - 1) / width;
-    EXPECT_LT(batches.stretch_batch_count(), full + full / 5) << width << " lanes";
-    RecordProperty("stretch_batches_" + std::to_string(width), std::to_string(batches.stretch_batch_count()));
-    RecordProperty("bending_batches_" + std::to_string(width), std::to_string(batches.bending_batch_count()));
+    const size_t full = (stretch.order.size() + width - 1) / width;
+    EXPECT_LT(stretch.layout.batch_count(), full + full / 5) << width << " lanes";
+    RecordProperty("stretch_batches_" + std::to_string(width), std::to_string(stretch.layout.batch_count()));
+    RecordProperty("bending_batches_" + std::to_string(width), std::to_string(bending.layout.batch_count()));
   }
 }
 
@@ -190,7 +192,7 @@ void expect_sweep_equals_one_at_a_time(Precision precision) {
           Eigen::Matrix<S, -1, 4, Eigen::RowMajor>::Zero(sequential.rows(), ConstraintBatches::kPositionStride);
       batched.template leftCols<3>() = sequential;
       for (int sweep = 0; sweep < 4; ++sweep) {  // forward, reverse, forward, reverse
-        batches.sweep(batched.data(), sweep % 2 == 1, 0.9, 0.7, kind, isa);
+        batches.sweep(batched.data(), sweep % 2 == 1, {0.9, 0.7}, {kind}, isa);
         sequential_sweep<S>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, kind);
       }
       EXPECT_GT((batched.template leftCols<3>().template cast<double>() - cube.positions).cwiseAbs().maxCoeff(), 1e-4);
@@ -211,7 +213,7 @@ TEST(ConstraintBatches, EveryInstructionSetGivesTheSameNumbersInDoublePrecision)
     const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double));
     PaddedPoints x = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
     x.leftCols<3>() = cube.positions;
-    batches.project(x.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+    batches.project(x.data(), 4, {0.9, 0.7}, {BendingAngle::Unsigned}, isa, nullptr);
     if (first.size() == 0)
       first = x;
     else
@@ -224,10 +226,10 @@ TEST(ConstraintBatches, SweepOnTheWrongInstructionSetOrPrecisionIsAnError) {
   const ConstraintBatches four(cube.constraints, cube.inverse_mass, 4);
   PaddedPoints x = PaddedPoints::Zero(cube.positions.rows(), ConstraintBatches::kPositionStride);
   Eigen::Matrix<float, -1, 4, Eigen::RowMajor> xf = x.cast<float>();
-  EXPECT_THROW(four.sweep(xf.data(), false, 1, 1, BendingAngle::Unsigned, InstructionSet::Sse2),
+  EXPECT_THROW(four.sweep(xf.data(), false, {1, 1}, {BendingAngle::Unsigned}, InstructionSet::Sse2),
                std::invalid_argument);  // double batches, float positions
   if (cpu_supports(InstructionSet::Avx512)) {
-    EXPECT_THROW(four.sweep(x.data(), false, 1, 1, BendingAngle::Unsigned, InstructionSet::Avx512),
+    EXPECT_THROW(four.sweep(x.data(), false, {1, 1}, {BendingAngle::Unsigned}, InstructionSet::Avx512),
                  std::invalid_argument);  // 4 lanes packed, 8 swept
   }
   EXPECT_THROW(ConstraintBatches(cube.constraints, cube.inverse_mass, 6), std::invalid_argument);
@@ -236,7 +238,7 @@ TEST(ConstraintBatches, SweepOnTheWrongInstructionSetOrPrecisionIsAnError) {
 /// Within each colour (batches [begin[c], begin[c + 1])), no vertex is used by two
 /// constraints: what lets threads split a colour. Returns the colour count.
 template <int N, class Rows>
-size_t expect_colours_independent(const ConstraintBatches::Layout& layout, int width, const std::vector<int>& order,
+size_t expect_colours_independent(const BatchLayout& layout, int width, const std::vector<int>& order,
                                   const Rows& vertices, Eigen::Index vertex_count) {
   const std::vector<size_t>& begin = layout.colours.begin;
   EXPECT_EQ(begin.front(), 0u);
@@ -265,10 +267,11 @@ TEST(ConstraintBatches, BatchesNeverStraddleColoursAndAColourSharesNoVertex) {
   const Eigen::Index n = cube.surface.V.rows();
   for (int width : {4, 8, 16}) {
     const ConstraintBatches batches(cube.constraints, cube.inverse_mass, width);
-    const size_t stretch_colours = expect_colours_independent<2>(batches.stretch_layout(), width,
-                                                                 batches.stretch_order(), cube.constraints.stretch, n);
-    const size_t bending_colours = expect_colours_independent<4>(batches.bending_layout(), width,
-                                                                 batches.bending_order(), cube.constraints.bending, n);
+    const KindBatches &stretch = batches.of("stretch"), &bending = batches.of("bending");
+    const size_t stretch_colours =
+        expect_colours_independent<2>(stretch.layout, width, stretch.order, cube.constraints.of("stretch").vertices, n);
+    const size_t bending_colours =
+        expect_colours_independent<4>(bending.layout, width, bending.order, cube.constraints.of("bending").vertices, n);
     RecordProperty("stretch_colours", std::to_string(stretch_colours));
     RecordProperty("bending_colours", std::to_string(bending_colours));
   }
@@ -281,17 +284,17 @@ TEST(ConstraintBatches, ProjectionIsBitwiseTheSameOnAnyNumberOfThreads) {
   for (InstructionSet isa : instruction_sets()) {
     const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double));
     PaddedPoints one = start;
-    batches.project(one.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+    batches.project(one.data(), 6, {0.9, 0.7}, {BendingAngle::Unsigned}, isa, nullptr);
     // The same as six single sweeps, alternating direction.
     PaddedPoints swept = start;
-    for (int it = 0; it < 6; ++it) batches.sweep(swept.data(), it % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned, isa);
+    for (int it = 0; it < 6; ++it) batches.sweep(swept.data(), it % 2 == 1, {0.9, 0.7}, {BendingAngle::Unsigned}, isa);
     EXPECT_EQ((one - swept).cwiseAbs().maxCoeff(), 0.0);
     for (int threads : {1, 2, 3, 5}) {
       ThreadTeam team(threads);
       PaddedPoints many = start;
       for (int repeat = 0; repeat < 3; ++repeat) {  // the team is reused
         many = start;
-        batches.project(many.data(), 6, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+        batches.project(many.data(), 6, {0.9, 0.7}, {BendingAngle::Unsigned}, isa, &team);
       }
       EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << name(isa);
     }
@@ -348,9 +351,10 @@ TEST(ConstraintBatches, DomainsAreIndependentAndTheirSweepIsBitwiseTheSameOnAnyT
       for (InstructionSet isa : instruction_sets()) {
         const ConstraintBatches batches(cube.constraints, cube.inverse_mass, batch_width(isa, Precision::Double),
                                         Precision::Double, domain);
-        for (const auto* layout : {&batches.stretch_layout(), &batches.bending_layout()}) {
-          const bool stretch = layout == &batches.stretch_layout();
-          const std::vector<int>& order = stretch ? batches.stretch_order() : batches.bending_order();
+        for (const KindBatches& kind : batches.kinds()) {
+          const BatchLayout* layout = &kind.layout;
+          const bool stretch = kind.kind->name == std::string("stretch");
+          const std::vector<int>& order = kind.order;
           ASSERT_EQ(layout->domain_count(), static_cast<size_t>(domains));
           size_t next = 0, interface = 0;
           for (size_t g = 0; g <= layout->domain_count(); ++g) {
@@ -359,8 +363,8 @@ TEST(ConstraintBatches, DomainsAreIndependentAndTheirSweepIsBitwiseTheSameOnAnyT
               for (int l = 0; l < layout->count[b]; ++l, ++next) {
                 std::set<int> touched;
                 for (int j = 0; j < (stretch ? 2 : 4); ++j)
-                  touched.insert(domain[static_cast<size_t>(stretch ? cube.constraints.stretch(order[next], j)
-                                                                    : cube.constraints.bending(order[next], j))]);
+                  touched.insert(
+                      domain[static_cast<size_t>(cube.constraints.of(kind.kind->name).vertices(order[next], j))]);
                 if (g < layout->domain_count()) {
                   EXPECT_EQ(touched, std::set<int>{static_cast<int>(g)}) << "domain " << g;
                 } else {
@@ -382,14 +386,14 @@ TEST(ConstraintBatches, DomainsAreIndependentAndTheirSweepIsBitwiseTheSameOnAnyT
         start.leftCols<3>() = cube.positions;
         Eigen::Matrix<double, -1, 3, Eigen::RowMajor> sequential = cube.positions;
         PaddedPoints one = start;
-        batches.project(one.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, nullptr);
+        batches.project(one.data(), 4, {0.9, 0.7}, {BendingAngle::Unsigned}, isa, nullptr);
         for (int sweep = 0; sweep < 4; ++sweep)
           sequential_sweep<double>(cube, batches, sequential, sweep % 2 == 1, 0.9, 0.7, BendingAngle::Unsigned);
         EXPECT_EQ((one.leftCols<3>() - sequential).cwiseAbs().maxCoeff(), 0.0) << domains << " domains";
         for (int threads : {2, 3, 4}) {
           ThreadTeam team(threads);
           PaddedPoints many = start;
-          batches.project(many.data(), 4, 0.9, 0.7, BendingAngle::Unsigned, isa, &team);
+          batches.project(many.data(), 4, {0.9, 0.7}, {BendingAngle::Unsigned}, isa, &team);
           EXPECT_EQ((many - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads, " << domains << " domains";
         }
       }

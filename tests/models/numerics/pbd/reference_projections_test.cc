@@ -134,37 +134,39 @@ void kernel_corrections(const std::vector<Stretch>& stretch, const std::vector<B
                         BendingAngle kind, InstructionSet isa, Eigen::MatrixXd& sc, Eigen::MatrixXd& bc,
                         Precision precision = Precision::Double) {
   const Eigen::Index ns = static_cast<Eigen::Index>(stretch.size()), nb = static_cast<Eigen::Index>(bend.size());
-  ConstraintSet c;
-  c.stretch.resize(ns, 2);
-  c.stretch_rest.resize(ns);
-  c.bending.resize(nb, 4);
-  c.bending_rest.resize(nb);
+  ConstraintSet c = build_constraints(SurfaceMesh{});  // every kind, no constraint
+  KindConstraints &cs = c.of("stretch"), &cb = c.of("bending");
+  cs.resize(ns);
+  cb.resize(nb);
   const Eigen::Index vertices = 2 * ns + 4 * nb;
   Eigen::VectorXd w = Eigen::VectorXd::Ones(vertices);  // a constraint with all w = 0 would be dropped: keep it
   PaddedPoints x = PaddedPoints::Zero(vertices, ConstraintBatches::kPositionStride);
   for (Eigen::Index i = 0; i < ns; ++i) {
     for (int j = 0; j < 2; ++j) {
-      c.stretch(i, j) = static_cast<int>(2 * i + j);
+      cs.vertices(i, j) = static_cast<int>(2 * i + j);
       x.row(2 * i + j).head<3>() = stretch[static_cast<size_t>(i)].p[j];
       w(2 * i + j) = stretch[static_cast<size_t>(i)].w[j];
     }
-    c.stretch_rest(i) = stretch[static_cast<size_t>(i)].rest;
+    cs.rest(i, 0) = stretch[static_cast<size_t>(i)].rest;
   }
   for (Eigen::Index i = 0; i < nb; ++i) {
     for (int j = 0; j < 4; ++j) {
-      c.bending(i, j) = static_cast<int>(2 * ns + 4 * i + j);
+      cb.vertices(i, j) = static_cast<int>(2 * ns + 4 * i + j);
       x.row(2 * ns + 4 * i + j).head<3>() = bend[static_cast<size_t>(i)].p[j];
       w(2 * ns + 4 * i + j) = bend[static_cast<size_t>(i)].w[j];
     }
-    c.bending_rest(i) = bend[static_cast<size_t>(i)].rest;
+    cb.rest(i, 0) = bend[static_cast<size_t>(i)].rest;
   }
   const ConstraintBatches batches(c, w, batch_width(isa, precision), precision);
+  std::vector<Eigen::MatrixXd> corrections;  // stretch, bending
   if (precision == Precision::Double) {
-    batches.corrections(x.data(), ks, kb, kind, isa, sc, bc);
+    batches.corrections(x.data(), {ks, kb}, {kind}, isa, corrections);
   } else {
     const Eigen::Matrix<float, -1, 4, Eigen::RowMajor> xf = x.cast<float>();
-    batches.corrections(xf.data(), ks, kb, kind, isa, sc, bc);
+    batches.corrections(xf.data(), {ks, kb}, {kind}, isa, corrections);
   }
+  sc = corrections[0];
+  bc = corrections[1];
 }
 
 std::vector<InstructionSet> instruction_sets() {

@@ -72,14 +72,14 @@ struct HandStep {
     p.matrix().leftCols<3>() = x + dt * v;
     for (size_t k = 0; k < pinned.size(); ++k)
       p.matrix().row(pinned[k]).head<3>() = pinned_positions.row(static_cast<Eigen::Index>(k));
-    const double ks = stiffness_per_iteration(s.stretch_stiffness, s.iterations);
-    const double kb = stiffness_per_iteration(s.bending_stiffness, s.iterations);
+    const double ks = stiffness_per_iteration(s.stiffness_of("stretch"), s.iterations);
+    const double kb = stiffness_per_iteration(s.stiffness_of("bending"), s.iterations);
     if (s.precision == Precision::Single) {
       q.matrix() = p.matrix().cast<float>();
-      batches.project(q.data(), s.iterations, ks, kb, s.bending_angle, best_instruction_set(), nullptr);
+      batches.project(q.data(), s.iterations, {ks, kb}, {s.bending_angle}, best_instruction_set(), nullptr);
       p.matrix() = q.matrix().cast<double>();
     } else {
-      batches.project(p.data(), s.iterations, ks, kb, s.bending_angle, best_instruction_set(), nullptr);
+      batches.project(p.data(), s.iterations, {ks, kb}, {s.bending_angle}, best_instruction_set(), nullptr);
     }
     v = (p.matrix().leftCols<3>() - x) / dt;
     x = p.matrix().leftCols<3>();
@@ -165,9 +165,9 @@ TEST(Substeps, EqualFramesOfTheSubstepForEveryConstraintSolve) {
     EXPECT_EQ(max_difference(a.positions(), b.positions()), 0.0) << c.name;
     EXPECT_GT(max_difference(a.positions(), cube.surface.V), 1e-4) << c.name;
     if (c.solve == ConstraintSolve::Xpbd) {
-      EXPECT_EQ((a.stretch_multipliers() - b.stretch_multipliers()).cwiseAbs().maxCoeff(), 0.0);
-      EXPECT_EQ((a.bending_multipliers() - b.bending_multipliers()).cwiseAbs().maxCoeff(), 0.0);
-      EXPECT_EQ((a.stretch_compliance() - b.stretch_compliance()).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ((a.multipliers("stretch") - b.multipliers("stretch")).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ((a.multipliers("bending") - b.multipliers("bending")).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ((a.compliance("stretch") - b.compliance("stretch")).cwiseAbs().maxCoeff(), 0.0);
     }
   }
 }

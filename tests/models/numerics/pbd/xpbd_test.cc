@@ -168,11 +168,12 @@ TEST(XpbdCompliance, EquilateralMeshGivesTheLatticeAndHingeConstants) {
   const double L = 0.01, E = 3000, nu = 0.45, h = 0.002;
   const SurfaceMesh s = equilateral_pair(L);
   const ConstraintSet c = build_constraints(s);
-  ASSERT_EQ(c.stretch.rows(), 5);
-  ASSERT_EQ(c.bending.rows(), 1);
-  const Eigen::VectorXd as = stretch_compliances(s, c, E, h), ab = bending_compliances(s, c, E, nu, h);
+  const KindConstraints &stretch = c.of("stretch"), &bending = c.of("bending");
+  ASSERT_EQ(stretch.size(), 5);
+  ASSERT_EQ(bending.size(), 1);
+  const Eigen::VectorXd as = stretch_compliances(s, stretch, E, h), ab = bending_compliances(s, bending, E, nu, h);
   for (Eigen::Index i = 0; i < 5; ++i) {
-    const bool shared = (c.stretch(i, 0) == 0 && c.stretch(i, 1) == 1);
+    const bool shared = (stretch.vertices(i, 0) == 0 && stretch.vertices(i, 1) == 1);
     // Triangular lattice: 2D modulus 2 k / sqrt(3) = E h for an interior edge (two
     // triangles); a boundary edge has one triangle, half of it.
     const double k = (shared ? 1.0 : 0.5) * std::sqrt(3.0) / 2 * E * h;
@@ -190,15 +191,15 @@ TEST(XpbdCompliance, VolumePreservingThicknessOfACubeIsASixthOfItsSide) {
 TEST(XpbdCompliance, BadMaterialOrDegenerateEdgesAreErrors) {
   const SurfaceMesh s = equilateral_pair(0.01);
   const ConstraintSet c = build_constraints(s);
-  EXPECT_THROW(stretch_compliances(s, c, 0.0, 0.01), std::invalid_argument);
-  EXPECT_THROW(stretch_compliances(s, c, 3000, 0.0), std::invalid_argument);
-  EXPECT_THROW(bending_compliances(s, c, 3000, 0.5001, 0.01), std::invalid_argument);
-  EXPECT_THROW(bending_compliances(s, c, 3000, -1.0, 0.01), std::invalid_argument);
+  EXPECT_THROW(stretch_compliances(s, c.of("stretch"), 0.0, 0.01), std::invalid_argument);
+  EXPECT_THROW(stretch_compliances(s, c.of("stretch"), 3000, 0.0), std::invalid_argument);
+  EXPECT_THROW(bending_compliances(s, c.of("bending"), 3000, 0.5001, 0.01), std::invalid_argument);
+  EXPECT_THROW(bending_compliances(s, c.of("bending"), 3000, -1.0, 0.01), std::invalid_argument);
   SurfaceMesh flat = s;
   flat.V.row(2) = flat.V.row(3) = Eigen::RowVector3d(0.005, 0, 0);  // both triangles of zero area
   const ConstraintSet cf = build_constraints(flat);
-  EXPECT_THROW(stretch_compliances(flat, cf, 3000, 0.01), std::invalid_argument);
-  EXPECT_THROW(bending_compliances(flat, cf, 3000, 0.45, 0.01), std::invalid_argument);
+  EXPECT_THROW(stretch_compliances(flat, cf.of("stretch"), 3000, 0.01), std::invalid_argument);
+  EXPECT_THROW(bending_compliances(flat, cf.of("bending"), 3000, 0.45, 0.01), std::invalid_argument);
   EXPECT_THROW(volume_preserving_thickness(s), std::invalid_argument);  // an open patch encloses nothing
 }
 
@@ -245,16 +246,19 @@ TEST(XpbdSolver, DerivesComplianceFromTheMaterialAndResetsMultipliersEachFrame) 
   const Eigen::VectorXd w = inverse_masses(cube, 1000, fixed);
   Solver a(cube, w, s);
   EXPECT_NEAR(a.shell_thickness(), 0.1 / 6, 1e-14);
-  ASSERT_EQ(a.stretch_compliance().size(), a.constraints().stretch.rows());
-  EXPECT_NEAR(a.stretch_compliance()(0), stretch_compliances(cube, a.constraints(), 3000, 0.1 / 6)(0), 1e-15);
+  ASSERT_EQ(a.compliance("stretch").size(), a.constraints().of("stretch").size());
+  EXPECT_NEAR(a.compliance("stretch")(0), stretch_compliances(cube, a.constraints().of("stretch"), 3000, 0.1 / 6)(0),
+              1e-15);
   Settings stiffer = s;
   stiffer.material.youngs_modulus = 6000;
   Solver b(cube, w, stiffer);
-  EXPECT_NEAR((a.stretch_compliance() - 2 * b.stretch_compliance()).norm(), 0, 1e-12 * a.stretch_compliance().norm());
-  EXPECT_NEAR((a.bending_compliance() - 2 * b.bending_compliance()).norm(), 0, 1e-12 * a.bending_compliance().norm());
+  EXPECT_NEAR((a.compliance("stretch") - 2 * b.compliance("stretch")).norm(), 0,
+              1e-12 * a.compliance("stretch").norm());
+  EXPECT_NEAR((a.compliance("bending") - 2 * b.compliance("bending")).norm(), 0,
+              1e-12 * a.compliance("bending").norm());
   a.set_loads({nearest_vertex(cube.V, cube.V.row(0).transpose())});
   a.step({Vec3(0, 0, 0)}, {}, Points());
-  EXPECT_EQ(a.stretch_multipliers().cwiseAbs().maxCoeff(), 0.0);  // at rest: nothing to do
+  EXPECT_EQ(a.multipliers("stretch").cwiseAbs().maxCoeff(), 0.0);  // at rest: nothing to do
   // Under a constant force the surface comes to rest and each frame's multipliers
   // (the constraint forces times dt^2) settle: they start from 0 every frame. Kept
   // across frames they would grow by about their own size every frame.
@@ -263,12 +267,12 @@ TEST(XpbdSolver, DerivesComplianceFromTheMaterialAndResetsMultipliersEachFrame) 
   Eigen::VectorXd previous;
   a.set_loads({nearest_vertex(cube.V, cube.V.row(loaded).transpose())});
   for (int f = 0; f < 400; ++f) {
-    previous = a.stretch_multipliers();
+    previous = a.multipliers("stretch");
     a.step({Vec3(0, 0, 0.2)}, {}, Points());
   }
-  const double size = a.stretch_multipliers().norm();
+  const double size = a.multipliers("stretch").norm();
   EXPECT_GT(size, 0.0);
-  EXPECT_LT((a.stretch_multipliers() - previous).norm(), 1e-3 * size);
+  EXPECT_LT((a.multipliers("stretch") - previous).norm(), 1e-3 * size);
   EXPECT_EQ(a.details()["constraint_solve"], "xpbd");
   EXPECT_NEAR(a.details()["shell_thickness_m"].get<double>(), 0.1 / 6, 1e-14);
 }
