@@ -25,10 +25,7 @@ struct KindBatches {
 
   template <class S>
   const BatchNumbers<S>& numbers() const {
-    if constexpr (precision_of<S>() == Precision::Single)
-      return single_numbers;
-    else
-      return double_numbers;
+    return for_precision<S>(double_numbers, single_numbers);
   }
 };
 

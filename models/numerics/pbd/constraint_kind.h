@@ -111,10 +111,7 @@ struct ConstraintKind {
 
   template <class S>
   const BatchKernels<S>& kernels() const {
-    if constexpr (precision_of<S>() == Precision::Single)
-      return single_kernels;
-    else
-      return double_kernels;
+    return for_precision<S>(double_kernels, single_kernels);
   }
   /// Its PBD parameter: "<name>_stiffness", in [0, 1].
   std::string stiffness_parameter() const { return std::string(name) + "_stiffness"; }

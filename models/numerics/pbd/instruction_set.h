@@ -40,6 +40,14 @@ template <class S>
 constexpr Precision precision_of() {
   return sizeof(S) == sizeof(float) ? Precision::Single : Precision::Double;
 }
+/// Of a thing held once per precision, the one for S.
+template <class S, class Double, class Single>
+constexpr const auto& for_precision(const Double& double_one, const Single& single_one) {
+  if constexpr (precision_of<S>() == Precision::Single)
+    return single_one;
+  else
+    return double_one;
+}
 
 /// Constraints per batch: one per lane of the instruction set's vectors (SSE2
 /// double: two registers of two).

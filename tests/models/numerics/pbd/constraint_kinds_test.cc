@@ -21,7 +21,6 @@
 #include "domain_partition.h"
 #include "load_mapping.h"
 #include "pbd_solver.h"
-#include "surface_edges.h"
 
 namespace tb::pbd {
 namespace {
@@ -80,15 +79,11 @@ struct Tether {
   static constexpr int kArity = 2, kRestValues = 1;
   static constexpr const char* kStiffnessUnit = "N_per_m";
 
+  /// On the stretch constraints' edges, limits 1.1 times their rest lengths.
   static void build(const SurfaceMesh& s, KindConstraints& c) {
-    const EdgeTriangles edges = edge_triangles(s);
-    c.resize(static_cast<Eigen::Index>(edges.size()));
-    Eigen::Index i = 0;
-    for (const auto& edge : edges) {
-      const auto& [a, b] = edge.first;
-      c.vertices.row(i) << a, b;
-      c.rest(i++, 0) = 1.1 * (s.V.row(a) - s.V.row(b)).norm();
-    }
+    const KindConstraints edges = build_constraints(s).of("stretch");
+    c.vertices = edges.vertices;
+    c.rest = 1.1 * edges.rest;
   }
   template <class T>
   static TB_PBD_INLINE void project(const Triple<T> p[2], const T w[2], const T rest[1], double stiffness,
@@ -102,13 +97,19 @@ struct Tether {
     corr[0] = (-s * w[0]) * d;
     corr[1] = (s * w[1]) * d;
   }
-  static bool reference(const Vec3 p[2], const double w[2], const double rest[1], double stiffness,
-                        const ProjectionOptions&, Vec3 corr[2]) {
+  /// Whether the tether on p is taut (and can move): corr zeroed, d = p1 - p2, len = |d|.
+  static bool taut(const Vec3 p[2], const double w[2], const double rest[1], Vec3 corr[2], Vec3& d, double& len) {
     corr[0].setZero();
     corr[1].setZero();
-    const Vec3 d = p[0] - p[1];
-    const double len = d.norm();
-    if (!(w[0] + w[1] > 0) || !(len > rest[0])) return false;
+    d = p[0] - p[1];
+    len = d.norm();
+    return w[0] + w[1] > 0 && len > rest[0];
+  }
+  static bool reference(const Vec3 p[2], const double w[2], const double rest[1], double stiffness,
+                        const ProjectionOptions&, Vec3 corr[2]) {
+    Vec3 d;
+    double len;
+    if (!taut(p, w, rest, corr, d, len)) return false;
     const double s = stiffness * (len - rest[0]) / (len * (w[0] + w[1]));
     corr[0] = (-s * w[0]) * d;
     corr[1] = (s * w[1]) * d;
@@ -118,11 +119,9 @@ struct Tether {
   /// tether pulls, it never pushes.
   static bool xpbd(const Vec3 p[2], const double w[2], const double rest[1], double alpha_tilde, double& lambda,
                    const ProjectionOptions&, Vec3 corr[2]) {
-    corr[0].setZero();
-    corr[1].setZero();
-    const Vec3 d = p[0] - p[1];
-    const double len = d.norm();
-    if (!(w[0] + w[1] > 0) || !(len > rest[0])) return false;
+    Vec3 d;
+    double len;
+    if (!taut(p, w, rest, corr, d, len)) return false;
     const double C = len - rest[0];
     const double next = std::min(lambda + (-C - alpha_tilde * lambda) / (w[0] + w[1] + alpha_tilde), 0.0);
     const double dlambda = next - lambda;
