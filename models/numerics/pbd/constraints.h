@@ -1,5 +1,6 @@
 // PBD constraint functions, gradients and projections (paper 1.4) as stateless
-// functions of one constraint, after Bender's PositionBasedDynamics (STYLE.md 1).
+// functions of one constraint, after Bender's PositionBasedDynamics
+// (github.com/InteractiveComputerGraphics/PositionBasedDynamics).
 // Each projection returns position corrections; the caller applies them. They
 // wrap the kernels of projection_kernels.h, which the solver runs on batches.
 #pragma once

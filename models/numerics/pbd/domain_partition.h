@@ -1,5 +1,5 @@
 // Vertices split into spatial domains for the PBD sweep on several threads
-// (issue 16). A constraint whose vertices all lie in one domain is independent
+// (docs/scaling.md). A constraint whose vertices all lie in one domain is independent
 // of every constraint of another domain, so each thread can sweep whole domains
 // with no barrier between colours; only the constraints that cross domains (the
 // interface, a few per cent) are swept colour by colour with barriers

@@ -32,7 +32,7 @@ bool cpu_supports(InstructionSet isa);
 const char* name(InstructionSet isa);
 
 /// The number type of a sweep: double, or single for speed (its steady state
-/// differs from double's by rounding: README, pbd_solver.h).
+/// differs from double's by rounding: docs/scaling.md, pbd_solver.h).
 enum class Precision { Double, Single };
 const char* name(Precision precision);
 /// The precision of the number type S (double or float).

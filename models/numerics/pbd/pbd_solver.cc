@@ -83,11 +83,11 @@ std::vector<ParameterSpec> parameter_specs() {
                       "spatial domains of the sweep order: 1, every constraint coloured (the paper's tables); n, the "
                       "surface bisected into n domains, each swept whole by one thread, then the constraints across "
                       "domains colour by colour: far fewer barriers (use with threads > 1). Changes the Gauss-Seidel "
-                      "order, and with it the unconverged PBD steady state: on the paper cube by 3 % of max |u| with "
-                      "2 domains, 8-14 % with 8 (README)"),
+                      "order, and with it the unconverged PBD steady state: on the paper cube pull by 9 % (pbd) and 13 % "
+                      "(hybrid) of max |u| with 2 domains, 7-13 % with 8 (docs/scaling.md)"),
       P::choice("precision", {"double", "single"}, name_of(d.precision == Precision::Double, "double", "single"),
                 "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
-                "from double's by rounding, README)"),
+                "from double's by rounding, docs/scaling.md)"),
       P::choice("instruction_set", {"auto", "sse2", "avx", "avx512vl", "avx512"}, "auto",
                 "the sweep's vector instructions; auto: avx512vl (256-bit vectors, 32 registers) where the CPU has "
                 "it, else avx, else sse2 (avx512, 512-bit, measured slower on "
@@ -147,7 +147,7 @@ Settings Settings::from(const Parameters& p) {
     // The multiplier of C = |theta| - |theta0| changes meaning when theta changes
     // sign within a frame: on the paper cube (flat pairs at rest) the unsigned angle
     // measured no steady state in 5000 frames at 100 iterations, the signed one
-    // steady in 145 (README).
+    // steady in 145 (docs/xpbd.md).
     if (s.bending_angle != BendingAngle::Signed)
       throw std::invalid_argument(
           "PBD parameters: constraint_solve 'xpbd' needs bending_angle 'signed' (its multipliers accumulate "

@@ -35,7 +35,7 @@ std::vector<ParameterSpec> parameter_specs();
 enum class Kernels { Simd, Reference };
 
 /// Where eq. (31) applies the load: the surface vertex nearest the load point (the
-/// paper, DESIGN.md), or the nearest surface point, the force shared by its
+/// paper, section 1.4), or the nearest surface point, the force shared by its
 /// triangle's vertices by barycentric weights (as the FEM's P1 load is).
 enum class LoadSpread { NearestVertex, SurfaceTriangle };
 
@@ -72,8 +72,8 @@ struct Settings {
   /// of every constraint (the paper's tables); more, each domain's constraints
   /// coloured, then the interface's, so that threads sweep whole domains between
   /// two barriers. Changes the Gauss-Seidel order, and with it PBD's steady state
-  /// (10 sweeps do not converge): on the paper cube by 3 % (2 domains) to 8-14 %
-  /// (8) of max |u|, r(u_z) within 0.003 (README); the result still does not
+  /// (10 sweeps do not converge): on the paper cube pull by 9-13 % (2 domains) and
+  /// 7-13 % (8) of max |u|, r(u_z) within 0.007 (docs/scaling.md); the result still does not
   /// depend on the thread count.
   int domains = 1;
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).

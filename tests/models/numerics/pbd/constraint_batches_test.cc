@@ -1,6 +1,5 @@
 // The batched PBD sweep against one-at-a-time projection, and the vectorised
-// atan2 against the C library (issue 5: the sweep's speed must not change its
-// numbers).
+// atan2 against the C library (the sweep's speed must not change its numbers).
 #include "constraint_batches.h"
 
 #include <gtest/gtest.h>

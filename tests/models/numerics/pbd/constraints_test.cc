@@ -1,5 +1,5 @@
 // Constraint gradients against central finite differences, and single-constraint
-// projections (issue 5).
+// projections.
 #include "constraints.h"
 
 #include <gtest/gtest.h>

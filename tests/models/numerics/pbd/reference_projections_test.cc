@@ -1,6 +1,6 @@
 // The scalar reference projections (reference_projections.h) against finite
 // differences and the paper's own gradient, and the SIMD kernels against the
-// reference over random and degenerate configurations (issue 18).
+// reference over random and degenerate configurations.
 #include "reference_projections.h"
 
 #include <gtest/gtest.h>

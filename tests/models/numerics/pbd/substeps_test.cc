@@ -1,4 +1,4 @@
-// Sub-stepping (Macklin et al. 2019; issue 14): Settings::substeps = n runs a frame
+// Sub-stepping (Macklin et al. 2019; docs/liver_steady_state.md): Settings::substeps = n runs a frame
 // as n steps of time_step / n. substeps = 1 is the paper's step bit for bit (written
 // out here from eqs. 31-35 as the solver had it before sub-steps); substeps = n is
 // n such steps of time_step / n, pins held at the frame's positions; bad values are

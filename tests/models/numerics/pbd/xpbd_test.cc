@@ -1,4 +1,4 @@
-// XPBD (issue 15): the scalar update against the PBD projection and against
+// XPBD (docs/xpbd.md): the scalar update against the PBD projection and against
 // finite differences of the constraint functions, the compliances from the
 // material, the parameter's error paths, and the steady state's independence of
 // the iteration count on the paper's cube.
