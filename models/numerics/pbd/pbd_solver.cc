@@ -83,8 +83,7 @@ std::vector<ParameterSpec> parameter_specs() {
                       "spatial domains of the sweep order: 1, every constraint coloured (the paper's tables); n, the "
                       "surface bisected into n domains, each swept whole by one thread, then the constraints across "
                       "domains colour by colour: far fewer barriers (use with threads > 1). Changes the Gauss-Seidel "
-                      "order, and with it the unconverged PBD steady state: on the paper cube pull by 9 % (pbd) and 13 % "
-                      "(hybrid) of max |u| with 2 domains, 7-13 % with 8 (docs/scaling.md)"),
+                      "order, and with it the unconverged PBD steady state (by how much: docs/scaling.md)"),
       P::choice("precision", {"double", "single"}, name_of(d.precision == Precision::Double, "double", "single"),
                 "the sweep's numbers: double; or single (floats, twice the lanes per vector; the steady state differs "
                 "from double's by rounding, docs/scaling.md)"),
@@ -146,8 +145,7 @@ Settings Settings::from(const Parameters& p) {
           "set kernels 'reference' (the SIMD kernels have no XPBD update)");
     // The multiplier of C = |theta| - |theta0| changes meaning when theta changes
     // sign within a frame: on the paper cube (flat pairs at rest) the unsigned angle
-    // measured no steady state in 5000 frames at 100 iterations, the signed one
-    // steady in 145 (docs/xpbd.md).
+    // reached no steady state where the signed one did (docs/xpbd.md).
     if (s.bending_angle != BendingAngle::Signed)
       throw std::invalid_argument(
           "PBD parameters: constraint_solve 'xpbd' needs bending_angle 'signed' (its multipliers accumulate "

@@ -72,9 +72,8 @@ struct Settings {
   /// of every constraint (the paper's tables); more, each domain's constraints
   /// coloured, then the interface's, so that threads sweep whole domains between
   /// two barriers. Changes the Gauss-Seidel order, and with it PBD's steady state
-  /// (10 sweeps do not converge): on the paper cube pull by 9-13 % (2 domains) and
-  /// 7-13 % (8) of max |u|, r(u_z) within 0.007 (docs/scaling.md); the result still does not
-  /// depend on the thread count.
+  /// (10 sweeps do not converge; by how much: docs/scaling.md); the result still
+  /// does not depend on the thread count.
   int domains = 1;
   /// The sweep's numbers (Simd): double, or single (the rest of the step stays double).
   Precision precision = Precision::Double;
