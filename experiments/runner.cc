@@ -320,11 +320,16 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     write_file_atomically((staging / "reactions.csv").string(), csv.str());
   }
   if (const Points* probes = model->probe_displacements(); probes && s.probes.rows() > 0) {
+    // Points from a third-party table (the Truth Cube's beads) are not copied out:
+    // the file names them by their row in that table (run.json, "probes").
+    const bool own_points = s.probes_source.empty();
     std::ostringstream csv;
-    csv << std::setprecision(17) << "probe,x,y,z,ux,uy,uz\n";
-    for (Eigen::Index p = 0; p < s.probes.rows(); ++p)
-      csv << p << ',' << s.probes(p, 0) << ',' << s.probes(p, 1) << ',' << s.probes(p, 2) << ',' << (*probes)(p, 0)
-          << ',' << (*probes)(p, 1) << ',' << (*probes)(p, 2) << '\n';
+    csv << std::setprecision(17) << (own_points ? "probe,x,y,z,ux,uy,uz\n" : "probe,ux,uy,uz\n");
+    for (Eigen::Index p = 0; p < s.probes.rows(); ++p) {
+      csv << p << ',';
+      if (own_points) csv << s.probes(p, 0) << ',' << s.probes(p, 1) << ',' << s.probes(p, 2) << ',';
+      csv << (*probes)(p, 0) << ',' << (*probes)(p, 1) << ',' << (*probes)(p, 2) << '\n';
+    }
     write_file_atomically((staging / "probes.csv").string(), csv.str());
   }
   SurfaceMesh deformed{rest + u, mesh.fine_surface.F};

@@ -57,7 +57,9 @@ nlohmann::json Scenario::to_json() const {
   }
   for (const ScenarioLoad& l : loads) j["loads"].push_back(tb::to_json(l));
   for (const ScenarioTool& t : tools) j["tools"].push_back(tb::to_json(t));
-  if (probes.rows() > 0) {
+  if (!probes_source.empty()) {
+    j["probes"] = probes_source;  // points from a third-party table: its name and frame, not a copy
+  } else if (probes.rows() > 0) {
     j["probes"] = nlohmann::json::array();
     for (Eigen::Index p = 0; p < probes.rows(); ++p) j["probes"].push_back(vec(probes.row(p).transpose()));
   }
@@ -353,7 +355,9 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
   l.finish();
   s.loads = parse_loads(o);
   s.tools = parse_tools(o);
-  s.probes = parse_probes(o, base);
+  ScenarioProbes probes = parse_probes(o, base, data, s.mesh);
+  s.probes = std::move(probes.points);
+  s.probes_source = std::move(probes.source);
 
   StrictObject f = o.object("frames", true);
   s.max_frames = f.integer("max", s.max_frames, 1, 100000000);

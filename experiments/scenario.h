@@ -50,6 +50,7 @@ struct Scenario {
   std::vector<ScenarioLoad> loads;  ///< "loads": after `load`, in file order
   std::vector<ScenarioTool> tools;  ///< "tools", in file order
   Points probes = Points(0, 3);     ///< "probes": #P by 3 interior points
+  nlohmann::json probes_source = nlohmann::json::object();  ///< where they come from, if not the file (scenario_tools.h)
   int max_frames = 2000;                                       ///< frame budget of dynamic models
   int static_frames = 20;                                      ///< frames of static models (timing samples)
   double steady_tolerance = 1e-6;                              ///< max per-frame change / max displacement

@@ -1,5 +1,8 @@
 #include "scenario_tools.h"
 
+#include "data_dir.h"
+#include "truth_cube.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -125,11 +128,57 @@ std::vector<ScenarioTool> parse_tools(StrictObject& scenario) {
   return out;
 }
 
-Points parse_probes(StrictObject& scenario, const std::string& base_dir) {
-  if (!scenario.has("probes")) return Points(0, 3);
+namespace {
+
+// probes.truth_cube: the Truth Cube's beads at rest (truth_cube.h), on a cube mesh.
+ScenarioProbes truth_cube_probes(StrictObject& probes, const std::string& base_dir, const DataDir& data,
+                                 const MeshRecipe& mesh) {
+  StrictObject o = probes.object("truth_cube");
+  if (mesh.kind != MeshRecipe::Kind::Cube) o.fail("table", "the Truth Cube's beads need a mesh of type cube");
+  const std::string reference = o.text("table", std::nullopt);
+  std::string path = reference;
+  if (is_data_reference(reference))
+    path = resolve_data_file(reference, data, o.where() + ".table");
+  else if (!std::filesystem::path(reference).is_absolute())
+    path = (std::filesystem::path(o.directory_of("table", base_dir)) / reference).lexically_normal().string();
+  TruthCubeTable table;
+  try {
+    table = read_truth_cube_table(path);
+  } catch (const std::runtime_error& e) {
+    o.fail("table", e.what());
+  }
+  const double strain = o.number("compare_at_strain", std::nullopt, 0, 1);
+  bool listed = false;
+  for (double s : table.strains) listed = listed || std::abs(s - strain) < 1e-9;
+  if (!listed) {
+    std::string known;
+    for (size_t i = 1; i < table.strains.size(); ++i) known += (i > 1 ? ", " : "") + std::to_string(table.strains[i]);
+    o.fail("compare_at_strain", "the table has no column at strain " + std::to_string(strain) + " (it has " + known + ")");
+  }
+  o.finish();
+  const TruthCubeFrame frame = truth_cube_frame(table, mesh.cube.height);
+  // The points are the third-party table's, moved: recorded by where they come
+  // from and how they were moved, not copied (README, "Data").
+  return {truth_cube_rest_points(table, frame), {{"truth_cube", {{"table", reference},
+                                {"compare_at_strain", strain},
+                                {"beads", table.beads.size()},
+                                {"frame", frame.to_json()}}}}};
+}
+
+}  // namespace
+
+ScenarioProbes parse_probes(StrictObject& scenario, const std::string& base_dir, const DataDir& data,
+                            const MeshRecipe& mesh) {
+  if (!scenario.has("probes")) return {};
   StrictObject o = scenario.object("probes");
+  const int given = int(o.has("points")) + int(o.has("file")) + int(o.has("truth_cube"));
+  if (given != 1) o.fail("points", "give one of points, file or truth_cube");
+  if (o.has("truth_cube")) {
+    ScenarioProbes out = truth_cube_probes(o, base_dir, data, mesh);
+    o.finish();
+    return out;
+  }
   std::vector<Eigen::Vector3d> points;
-  if (o.has("points") == o.has("file")) o.fail("points", "give either points or file");
   if (o.has("points")) {
     const nlohmann::json& p = o.raw("points");
     if (!p.is_array() || p.empty()) o.fail("points", "must be a non-empty array of [x, y, z]");
@@ -161,7 +210,7 @@ Points parse_probes(StrictObject& scenario, const std::string& base_dir) {
   o.finish();
   Points out(static_cast<Eigen::Index>(points.size()), 3);
   for (size_t i = 0; i < points.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
-  return out;
+  return {out, nlohmann::json::object()};
 }
 
 nlohmann::json to_json(const ScenarioLoad& l) {

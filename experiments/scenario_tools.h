@@ -9,7 +9,9 @@
 #include <utility>
 #include <vector>
 
+#include "data_dir.h"
 #include "load_case.h"
+#include "mesh_recipe.h"
 #include "strict_json.h"
 
 namespace tb {
@@ -44,9 +46,20 @@ std::vector<ScenarioLoad> parse_loads(StrictObject& scenario);
 /// "tools": [...]. Each entry: "type" grasp (point, radius) or plate (box {min,
 /// max}, mode bonded | sliding, normal x | y | z), and its displacement schedule.
 std::vector<ScenarioTool> parse_tools(StrictObject& scenario);
-/// "probes": {"points": [[x, y, z], ...]} or {"file": "points.csv"} (a header line,
-/// then x,y,z per line; relative to the scenario file). #P by 3; empty if absent.
-Points parse_probes(StrictObject& scenario, const std::string& base_dir);
+/// Interior points, and where they come from when it is not the scenario itself.
+struct ScenarioProbes {
+  Points points = Points(0, 3);
+  /// Empty for points given in the scenario; {"truth_cube": {table, frame, ...}}
+  /// for the Truth Cube's beads (truth_cube.h).
+  nlohmann::json source = nlohmann::json::object();
+};
+
+/// "probes": {"points": [[x, y, z], ...]}, {"file": "points.csv"} (a header line,
+/// then x,y,z per line; relative to the scenario file), or {"truth_cube": {"table":
+/// "data:data/truthcube/uniaxial_positions.csv", "compare_at_strain": 0.05}} (the beads
+/// at rest, on a cube mesh). Empty if absent.
+ScenarioProbes parse_probes(StrictObject& scenario, const std::string& base_dir, const DataDir& data,
+                            const MeshRecipe& mesh);
 
 nlohmann::json to_json(const ScenarioLoad& l);
 nlohmann::json to_json(const ScenarioTool& t);

@@ -104,7 +104,7 @@ TEST_F(ToolScenarios, BadToolsLoadsAndProbesAreOneLineErrorsNamingFileAndKey) {
   expect_error(j, "material.density: 0 is out of range");
   j = grasped_cube();
   j["probes"] = {{"points", {{0, 0, 0.05}}}, {"file", "p.csv"}};
-  expect_error(j, "probes.points: give either points or file");
+  expect_error(j, "probes.points: give one of points, file or truth_cube");
   j = grasped_cube();
   j["probes"] = {{"file", "missing.csv"}};
   expect_error(j, "missing.csv: cannot open file");
