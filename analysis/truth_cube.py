@@ -167,6 +167,11 @@ def make(results, out, data_flag):
         for strain, tag in STRAIN_TAGS.items():
             role = f"truth_cube_{tag}_{mode}"
             cases = e.by_role(role)
+            scenario = e.scenario_name(role)
+            for name in e.listed_cases.get(scenario, []):
+                if name not in cases:
+                    why = e.failure(scenario, name) or "not run"
+                    rows.append([f"{strain * 100:g}", mode, name] + ["n/a"] * 6 + [f"no results: {why}"])
             for name, case in cases.items():
                 beads = case_beads(case, positions, strains)
                 timing = case["timings"]["step"]
