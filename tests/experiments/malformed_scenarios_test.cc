@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "scenario_fixture.h"
+#include "truth_cube.h"
 
 namespace tb {
 namespace {
@@ -71,6 +72,21 @@ TEST_F(MalformedScenarios, ASweptScenarioWithoutModelsIsNamed) {
       {"scenarios", {"small.json"}},
       {"sweep", {{"cases", {"fem-direct"}}, {"factors", {{{"key", "mesh.nx"}, {"values", {3}}}}}}}};
   expect_refused(experiment.dump(), "the scenario swept has no \"models\" array");
+}
+
+TEST_F(MalformedScenarios, ATruthCubeTableQuotedInAMessageStaysOnOneLine) {
+  // Found by the truth_cube_csv fuzz target: a carriage return in the strain labels.
+  const std::string p = (dir / "beads.csv").string();
+  std::ofstream(p, std::ios::binary) << std::string(5, '\n') << "bead nominal location,,,no strain,,,5% st\rrain\n";
+  try {
+    read_truth_cube_table(p);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind(p + ": line 6: expected 'no strain'", 0), 0u) << m;
+    EXPECT_NE(m.find("5% st\\rrain"), std::string::npos) << m;
+    EXPECT_EQ(m.find_first_of("\n\r"), std::string::npos) << m;
+  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@ const std::vector<Target>& targets() {
     std::vector<Target> t = mesh_targets();
     t.push_back(scenario_target());
     t.push_back(probes_target());
+    t.push_back(truth_cube_target());
     return t;
   }();
   return all;

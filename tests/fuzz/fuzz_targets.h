@@ -59,6 +59,8 @@ std::vector<Target> mesh_targets();
 /// The scenario loader's target, and its probe-point CSV reader's (scenario_target.cc).
 Target scenario_target();
 Target probes_target();
+/// The Truth Cube bead table's target (scenario_target.cc).
+Target truth_cube_target();
 /// The target called `name`; throws std::invalid_argument listing the names.
 const Target& find_target(const std::string& name);
 

@@ -263,6 +263,20 @@ def main():
     # The probe-point CSV of scenario.json (the probes_csv target).
     write("probes_csv", "points.csv", "x,y,z\n0,0,0.05\n0.01,0.01,0.05\n")
     write("probes_csv", "blank_lines_crlf.csv", "x,y,z\r\n\r\n 0.02 , 0.0 , 0.03\r\n\t\n-0.01,0,0.04\r\n")
+    # A Truth Cube bead table in the layout of experiments/truth_cube.h (the truth_cube_csv
+    # target): 7 header lines, the 6th naming the strains, then 8 corner beads made here.
+    header = ("Bead table written by tests/fuzz/make_seeds.py,,,,,,,,,,,,,,\n" + ",,,,,,,,,,,,,,\n" * 4 +
+              "bead nominal location,,,no strain,,,5% strain,,,12.5% strain,,,18.25% strain,,\n"
+              "i,j,k,x0,y0,z0,x1,y1,z1,x2,y2,z2,x3,y3,z3\n")
+    rows = ""
+    for i in (1, 7):
+        for j in (1, 7):
+            for k in (1, 7):
+                x, y, z = 10.0 * (i - 4), 10.0 * (j - 4), 10.0 * (k - 4)
+                rows += f"{i},{j},{k}," + ",".join(f"{x},{y},{z + 0.5 * s * (k - 7)}" for s in range(4)) + "\n"
+    write("truth_cube_csv", "corners.csv", header + rows)
+    two = header.replace(",,,18.25% strain,,", "").replace(",x3,y3,z3", "")
+    write("truth_cube_csv", "two_strains.csv", two + "1,1,1,-30,-30,10,-30,-30,10.5,-30,-30,11\r\n")
     regressions()
 
 
@@ -297,6 +311,12 @@ def regressions():
         "sweep": {"mode": "grid", "factors": [{"key": k, "values": list(range(1, 31))}
                                               for k in ("mesh.nx", "mesh.ny", "mesh.nz")]}}))
     write("probes_csv", "regression_trailing_field.csv", "x,y,z\n0,0,0.05,7\n")
+    # Found by the truth_cube_csv target (input 1108 of seed 1): a carriage return inside
+    # the strain label line, quoted into the message, which then took two lines.
+    with open(os.path.join(CORPUS, "truth_cube_csv", "corners.csv")) as f:
+        lines = f.read().split("\n")
+    lines[5] = lines[5].replace("5% strain", "5% st\rrain")
+    write("truth_cube_csv", "regression_carriage_return.csv", "\n".join(lines))
 
 
 if __name__ == "__main__":

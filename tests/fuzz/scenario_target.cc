@@ -2,6 +2,7 @@
 // the mesh readers' so that those link without the models.
 #include "fuzz_targets.h"
 #include "scenario.h"
+#include "truth_cube.h"
 
 namespace tb::fuzz {
 
@@ -79,6 +80,17 @@ Target probes_target() {
           {"probes.csv"},
           {"x,y,z\n", ",", "\r\n", "\n", " ", "1e400", "nan", "-0", "0.05"},
           true};
+}
+
+Target truth_cube_target() {
+  // The Truth Cube's bead table (experiments/truth_cube.h), as a scenario's
+  // probes.truth_cube reads it from the data directory; the seeds are tables written by
+  // make_seeds.py in its layout (7 header lines, then i, j, k and x, y, z per strain).
+  return {"truth_cube_csv",
+          "Truth Cube bead table CSV (read_truth_cube_table)",
+          [](const std::string& bytes, const Workspace& w) { read_truth_cube_table(w.write("beads.csv", bytes)); },
+          {"beads.csv"},
+          {",", "\n", "\r\n", "no strain", "5% strain", "12.5% strain", "% strain", ",,,", "7", "8", "0", "nan"}};
 }
 
 }  // namespace tb::fuzz
