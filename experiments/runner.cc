@@ -33,6 +33,7 @@
 #include "build_info.h"
 #include "mesh_checks.h"
 #include "mesh_io.h"
+#include "resource_limits.h"
 
 namespace tb {
 namespace fs = std::filesystem;
@@ -358,6 +359,11 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   };
   std::map<std::string, BuiltMesh> meshes;
   std::vector<CaseOutcome> outcomes;
+  if (!opt.index_only && opt.max_memory_bytes >= 0) {
+    const bool given = opt.max_memory_bytes > 0;
+    check_memory(e, opt.only_scenario, opt.only_case, given ? opt.max_memory_bytes : available_memory_bytes(),
+                 given ? "--max-memory" : "available memory (MemAvailable, /proc/meminfo)");
+  }
   // What the analysis reads to know the cases, their order and the reference.
   fs::create_directories(fs::path(opt.out_dir) / e.name);
   write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");

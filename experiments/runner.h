@@ -23,6 +23,10 @@ struct RunOptions {
   bool index_only = false;
   bool progress = true;        ///< progress lines on stderr
   std::string mesh_cache_dir;  ///< built meshes cached here by content hash; empty: none
+  /// The memory every selected case must fit, checked before anything is built or
+  /// written (resource_limits.h): > 0 bytes (tissuebench run --max-memory); 0: the
+  /// machine's available memory; < 0: no check.
+  double max_memory_bytes = 0;
   // Several processes (mpirun): every one runs every case (the
   // distributed FEM together, the other models redundantly); only the one with
   // write_outputs writes files. With `barrier` set, that process builds each mesh

@@ -1,8 +1,5 @@
 #include "scenario.h"
 
-#include "point_location.h"
-#include "tool_placement.h"
-
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -11,8 +8,10 @@
 #include <map>
 #include <memory>
 
+#include "point_location.h"
 #include "strict_json.h"
 #include "sweep.h"
+#include "tool_placement.h"
 
 namespace tb {
 namespace fs = std::filesystem;
@@ -144,8 +143,8 @@ void check_on_mesh(const Scenario& s, const SurfaceMesh& surface) {
             << d << " m";
   }
   if (count > 0)
-    throw std::invalid_argument(where + "probes: " + std::to_string(count) + " point(s) outside the body: " +
-                                outside.str());
+    throw std::invalid_argument(where + "probes: " + std::to_string(count) +
+                                " point(s) outside the body: " + outside.str());
 }
 
 void Scenario::loads_at(int frame, FrameLoads& out) const {
@@ -163,12 +162,22 @@ void Scenario::loads_at(int frame, FrameLoads& out) const {
 
 namespace {
 
+/// Deeper nesting than any scenario needs; the loader and nlohmann's dump() recurse
+/// per level, so an input nested deeper (a million '[') would overflow the stack.
+constexpr int kMaxJsonDepth = 64;
+
 nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ScenarioError(path + ": cannot open file");
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!in || fs::is_directory(path, ec)) throw ScenarioError(path + ": cannot open file");
   try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+    return nlohmann::json::parse(in, [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      if (depth > kMaxJsonDepth)
+        throw ScenarioError(path + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      return true;
+    });
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double (1e400).
     throw ScenarioError(path + ": malformed JSON: " + e.what());
   }
 }
@@ -341,7 +350,8 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
   s.has_load = o.has("load");
   if (!s.has_load && !o.has("loads") && !o.has("tools")) o.fail("load", "missing: give load, loads or tools");
   StrictObject l = o.object("load", true);
-  if (s.has_load) s.load_placement = l.text("at", s.load_placement, {"point", "highest_surface_vertex", "nearest_surface_vertex"});
+  if (s.has_load)
+    s.load_placement = l.text("at", s.load_placement, {"point", "highest_surface_vertex", "nearest_surface_vertex"});
   if (s.has_load) {
     if (s.load_placement == "highest_surface_vertex") {
       if (l.has("point")) l.fail("point", "not used with at = highest_surface_vertex");
@@ -465,6 +475,9 @@ Experiment load_experiment(const std::string& path, const DataDir& data) {
         o.fail("scenarios", "entries must be file paths or {\"file\", \"role\", \"models_add\"} objects");
       }
       const std::string file = (fs::path(path).parent_path() / relative).lexically_normal().string();
+      std::error_code ec;
+      if (relative.empty() || !fs::is_regular_file(file, ec))
+        throw ScenarioError(entry_where + ": '" + relative + "': no such scenario file (" + file + ")");
       Document doc = read_scenario_document(file);
       combine_models(doc, models, added, path, entry_where);
       if (sweep.is_null()) {

@@ -24,9 +24,10 @@ Schedule parse_schedule(StrictObject& o, const std::string& key) {
     for (size_t i = 0; i < path.size(); ++i) {
       const nlohmann::json& w = path[i];
       const std::string at = "path[" + std::to_string(i) + "]";
-      if (!w.is_array() || w.size() != 4) o.fail(at, "must be [frame, x, y, z], found " + w.dump());
+      if (!w.is_array() || w.size() != 4) o.fail(at, "must be [frame, x, y, z], found " + shown(w));
       for (const nlohmann::json& x : w)
-        if (!x.is_number() || !std::isfinite(x.get<double>())) o.fail(at, "must hold finite numbers, found " + w.dump());
+        if (!x.is_number() || !std::isfinite(x.get<double>()))
+          o.fail(at, "must hold finite numbers, found " + shown(w));
       const double frame = w[0].get<double>();
       if (frame < 0 || frame != std::floor(frame) || frame > 1e8) o.fail(at, "its frame must be a whole number >= 0");
       if (!s.path.empty() && frame <= s.path.back().first)
@@ -186,7 +187,7 @@ ScenarioProbes parse_probes(StrictObject& scenario, const std::string& base_dir,
       const nlohmann::json& x = p[i];
       bool ok = x.is_array() && x.size() == 3;
       for (size_t k = 0; ok && k < 3; ++k) ok = x[k].is_number() && std::isfinite(x[k].get<double>());
-      if (!ok) o.fail("points[" + std::to_string(i) + "]", "must be [x, y, z] of finite numbers, found " + x.dump());
+      if (!ok) o.fail("points[" + std::to_string(i) + "]", "must be [x, y, z] of finite numbers, found " + shown(x));
       points.emplace_back(x[0].get<double>(), x[1].get<double>(), x[2].get<double>());
     }
   } else {
@@ -201,8 +202,10 @@ ScenarioProbes parse_probes(StrictObject& scenario, const std::string& base_dir,
       std::istringstream ls(line);
       Eigen::Vector3d x;
       char c1 = 0, c2 = 0;
-      if (!(ls >> x(0) >> c1 >> x(1) >> c2 >> x(2)) || c1 != ',' || c2 != ',' || !x.allFinite())
-        o.fail("file", path.string() + ": line " + std::to_string(n) + ": expected x,y,z, found '" + line + "'");
+      std::string rest;
+      if (!(ls >> x(0) >> c1 >> x(1) >> c2 >> x(2)) || c1 != ',' || c2 != ',' || !x.allFinite() || (ls >> rest))
+        o.fail("file", path.string() + ": line " + std::to_string(n) + ": expected x,y,z, found '" +
+                           line.substr(0, 120) + (line.size() > 120 ? "...'" : "'"));
       points.push_back(x);
     }
     if (points.empty()) o.fail("file", path.string() + ": no points");
@@ -227,7 +230,8 @@ nlohmann::json to_json(const ScenarioTool& t) {
     j["radius"] = t.tool.radius;
   } else {
     j["box"] = {{"min", vec(t.tool.box.min)}, {"max", vec(t.tool.box.max)}};
-    if (t.tool.kind == ToolKind::SlidingPlate) j["normal"] = std::string(1, static_cast<char>('x' + t.tool.normal_axis));
+    if (t.tool.kind == ToolKind::SlidingPlate)
+      j["normal"] = std::string(1, static_cast<char>('x' + t.tool.normal_axis));
   }
   return j;
 }

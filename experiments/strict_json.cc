@@ -9,6 +9,13 @@
 
 namespace tb {
 
+std::string shown(const nlohmann::json& value, size_t max_chars) {
+  // Strings from the parser are valid UTF-8, so dump() cannot throw; replace anyway.
+  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (text.size() > max_chars) text = text.substr(0, max_chars) + "...";
+  return text;
+}
+
 std::string json_pointer_child(const std::string& pointer, const std::string& key) {
   std::string escaped;
   for (char c : key) escaped += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
@@ -79,7 +86,7 @@ double StrictObject::number(const std::string& key, std::optional<double> fallba
     if (!fallback) fail(key, "missing (required)");
     return *fallback;
   }
-  if (!v->is_number()) fail(key, "must be a number, found " + v->dump());
+  if (!v->is_number()) fail(key, "must be a number, found " + shown(*v));
   const double x = v->get<double>();
   if (!std::isfinite(x) || x < min || x > max) {
     std::ostringstream msg;
@@ -91,7 +98,7 @@ double StrictObject::number(const std::string& key, std::optional<double> fallba
 
 int StrictObject::integer(const std::string& key, std::optional<int> fallback, int min, int max) {
   const nlohmann::json* v = value(key);
-  if (v && !v->is_number_integer()) fail(key, "must be an integer, found " + v->dump());
+  if (v && !v->is_number_integer()) fail(key, "must be an integer, found " + shown(*v));
   read_.erase(key);
   return static_cast<int>(number(key, fallback ? std::optional<double>(*fallback) : std::nullopt, min, max));
 }
@@ -99,7 +106,7 @@ int StrictObject::integer(const std::string& key, std::optional<int> fallback, i
 bool StrictObject::boolean(const std::string& key, bool fallback) {
   const nlohmann::json* v = value(key);
   if (!v) return fallback;
-  if (!v->is_boolean()) fail(key, "must be true or false, found " + v->dump());
+  if (!v->is_boolean()) fail(key, "must be true or false, found " + shown(*v));
   return v->get<bool>();
 }
 
@@ -110,7 +117,7 @@ std::string StrictObject::text(const std::string& key, std::optional<std::string
     if (!fallback) fail(key, "missing (required)");
     return *fallback;
   }
-  if (!v->is_string()) fail(key, "must be a string, found " + v->dump());
+  if (!v->is_string()) fail(key, "must be a string, found " + shown(*v));
   const std::string s = v->get<std::string>();
   if (!choices.empty()) {
     std::string allowed;
@@ -129,10 +136,10 @@ Eigen::Vector3d StrictObject::vec3(const std::string& key, std::optional<Eigen::
     if (!fallback) fail(key, "missing (required)");
     return *fallback;
   }
-  if (!v->is_array() || v->size() != 3) fail(key, "must be an array of 3 numbers, found " + v->dump());
+  if (!v->is_array() || v->size() != 3) fail(key, "must be an array of 3 numbers, found " + shown(*v));
   Eigen::Vector3d out;
   for (int k = 0; k < 3; ++k) {
-    if (!(*v)[static_cast<size_t>(k)].is_number()) fail(key, "must be an array of 3 numbers, found " + v->dump());
+    if (!(*v)[static_cast<size_t>(k)].is_number()) fail(key, "must be an array of 3 numbers, found " + shown(*v));
     out(k) = (*v)[static_cast<size_t>(k)].get<double>();
     if (!std::isfinite(out(k))) fail(key, "must be finite");
   }
@@ -147,7 +154,7 @@ StrictObject StrictObject::object(const std::string& key, bool optional) {
     if (!schema_.empty()) absent.in_schema(schema_ + "." + key);
     return absent;
   }
-  if (!v->is_object()) fail(key, "must be an object, found " + v->dump());
+  if (!v->is_object()) fail(key, "must be an object, found " + shown(*v));
   StrictObject child(*v, where_ + "." + key, origins_, json_pointer_child(pointer_, key));
   if (!schema_.empty()) child.in_schema(schema_ + "." + key);
   return child;

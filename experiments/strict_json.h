@@ -13,13 +13,19 @@
 #include <string>
 #include <vector>
 
+#include "mesh_error.h"
+
 namespace tb {
 
-/// Thrown for any invalid scenario: what() is "<file>: <key path>: <problem>".
+/// Thrown for any invalid scenario: what() is "<file>: <key path>: <problem>", one
+/// line (one_line, mesh_error.h: a value quoted from the file may hold a newline).
 class ScenarioError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ScenarioError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
+
+/// A JSON value quoted in a message: its text, cut to `max_chars`.
+std::string shown(const nlohmann::json& value, size_t max_chars = 120);
 
 /// Which file set each value of a JSON document merged from several files: JSON
 /// pointer ("/mesh/surface", "/models/3/name") -> path of the file. `file` is the

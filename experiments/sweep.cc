@@ -1,5 +1,6 @@
 #include "sweep.h"
 
+#include <iomanip>
 #include <set>
 #include <sstream>
 
@@ -35,6 +36,21 @@ void set_at(nlohmann::json& j, const std::vector<std::string>& parts, size_t fro
   (*at)[parts.back()] = value;
 }
 
+/// The case name of a model entry ("name", else "model"); "" if it has neither as a
+/// string (parse_scenario reports such an entry).
+std::string case_of(const nlohmann::json& m) {
+  for (const char* key : {"name", "model"})
+    if (m.is_object() && m.contains(key) && m[key].is_string()) return m[key].get<std::string>();
+  return "";
+}
+
+/// The scenario's "models" array, or an error naming the sweep and the scenario.
+const nlohmann::json& models_of(const nlohmann::json& scenario, const std::string& where) {
+  if (!scenario.is_object() || !scenario.contains("models") || !scenario["models"].is_array())
+    throw ScenarioError(where + ": the scenario swept has no \"models\" array");
+  return scenario["models"];
+}
+
 bool model_declares(const nlohmann::json& model_entry, const std::string& parameter) {
   const ModelInfo& info = find_model(model_entry.at("model").get<std::string>());
   for (const auto& p : info.parameters)
@@ -51,7 +67,7 @@ void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& valu
       nlohmann::json& models = scenario.at("models");
       bool matched = false;
       for (auto& m : models) {
-        const std::string case_name = m.value("name", m.value("model", std::string()));
+        const std::string case_name = case_of(m);
         const bool wildcard = parts[1] == "*";
         if (!wildcard && case_name != parts[1]) continue;
         if (wildcard && (parts.size() != 4 || parts[2] != "parameters" || !model_declares(m, parts[3]))) continue;
@@ -62,6 +78,8 @@ void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& valu
     } else {
       set_at(scenario, parts, 0, value);
     }
+  } catch (const ScenarioError&) {
+    throw;
   } catch (const std::exception& e) {
     throw ScenarioError(where + ": sweep key '" + f.key + "': " + e.what());
   }
@@ -138,12 +156,26 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
       for (const auto& f : factors)
         if (f.reference) o.fail("factors", "a reference factor needs the experiment's \"reference\" case");
 
+    // Every point is a scenario to load (and to run): a declaration making more than
+    // kMaxSweepPoints is refused before any is made.
+    double points_declared = 1;
+    for (const auto& f : factors)
+      points_declared = grid ? points_declared * static_cast<double>(f.values.size())
+                             : points_declared + static_cast<double>(f.values.size());
+    if (points_declared > kMaxSweepPoints) {
+      std::ostringstream msg;
+      msg << std::setprecision(3) << "would make " << points_declared << " scenarios, more than " << kMaxSweepPoints
+          << " (fewer factors or values, or one_at_a_time instead of grid)";
+      o.fail("factors", msg.str());
+    }
+    if (!base.is_object()) throw ScenarioError(where + ": the scenario swept is not a JSON object");
+
     // The base scenario, restricted to the kept cases.
     nlohmann::json restricted = base;
     if (!keep.empty()) {
       nlohmann::json models = nlohmann::json::array();
-      for (const auto& m : base.at("models")) {
-        const std::string case_name = m.value("name", m.value("model", std::string()));
+      for (const auto& m : models_of(base, o.where())) {
+        const std::string case_name = case_of(m);
         for (const auto& k : keep)
           if (k == case_name) models.push_back(m);
       }
@@ -166,8 +198,8 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
       }
       if (p.reference_only) {
         nlohmann::json models = nlohmann::json::array();
-        for (const auto& m : p.scenario.at("models"))
-          if (m.value("name", m.value("model", std::string())) == reference) models.push_back(m);
+        for (const auto& m : models_of(p.scenario, o.where()))
+          if (case_of(m) == reference) models.push_back(m);
         p.scenario["models"] = models;
       }
       p.scenario["name"] = p.name;

@@ -19,6 +19,10 @@
 
 namespace tb {
 
+/// The most scenarios one sweep declaration may make of a base scenario (grid: the
+/// product of its factors' value counts; one at a time: one plus their sum).
+inline constexpr int kMaxSweepPoints = 10000;
+
 /// One expanded scenario of a sweep.
 struct SweepPoint {
   std::string name;         ///< "<base>" or "<base>__<label>=<value>[__...]"

@@ -82,6 +82,10 @@ int main(int argc, char** argv) {
   run->add_option("--mesh-cache", mesh_cache,
                   "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
   run->add_flag("--no-mesh-cache", no_cache, "always build the meshes");
+  double max_memory_gib = 0;
+  run->add_option("--max-memory", max_memory_gib,
+                  "GiB every case must fit, estimated before anything is built (default: the available memory; "
+                  "-1: no check; docs/robustness.md)");
 
   auto* mesh = app.add_subcommand("mesh", "Build a hybrid mesh (paper section 1.2) and write it for ParaView");
   // Options left out keep the mesh recipe's defaults (parse_mesh_recipe), so
@@ -154,6 +158,7 @@ int main(int argc, char** argv) {
       opt.write_meshes = !no_mesh_output;
       opt.progress = !quiet && root;
       opt.mesh_cache_dir = no_cache ? "" : mesh_cache;
+      opt.max_memory_bytes = max_memory_gib < 0 ? -1 : max_memory_gib * (1ull << 30);
       opt.write_outputs = root;
       if (tb::MpiSession::size() > 1) opt.barrier = [] { tb::MpiSession::barrier(); };
       opt.process_statistics = [] {

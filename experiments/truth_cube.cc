@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mesh_error.h"
+
 namespace tb {
 namespace {
 
@@ -52,9 +54,7 @@ std::vector<double> parse_strain_labels(const std::string& line, const std::stri
   return strains;
 }
 
-}  // namespace
-
-TruthCubeTable read_truth_cube_table(const std::string& file) {
+TruthCubeTable read_table(const std::string& file) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file + ": cannot open the Truth Cube table");
   TruthCubeTable table;
@@ -96,6 +96,18 @@ TruthCubeTable read_truth_cube_table(const std::string& file) {
   }
   if (table.beads.empty()) throw std::runtime_error(file + ": no bead rows after the header");
   return table;
+}
+
+}  // namespace
+
+TruthCubeTable read_truth_cube_table(const std::string& file) {
+  try {
+    return read_table(file);
+  } catch (const std::runtime_error& e) {
+    // The messages quote the file's cells and lines, which may hold a carriage
+    // return or control bytes: one line (mesh_error.h), as tests/fuzz requires.
+    throw std::runtime_error(one_line(e.what()));
+  }
 }
 
 Eigen::Vector3d TruthCubeFrame::to_model(const Eigen::Vector3d& table_mm) const {

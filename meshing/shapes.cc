@@ -145,7 +145,9 @@ SurfaceMesh cube_sphere(int n, const std::function<Vec3(const Vec3&)>& map) {
                                                   {Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY()},
                                                   {-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX()}}};
   PatchSurface s(kWeldTolerance);
-  for (const auto& [normal, u, v] : faces) {
+  for (const auto& face : faces) {
+    // References, not structured bindings: a C++17 lambda cannot capture those.
+    const Vec3 &normal = face[0], &u = face[1], &v = face[2];
     auto tangent = [n](int i) { return std::tan(M_PI / 4 * (2.0 * i / n - 1)); };  // equiangular
     s.add_grid(
         grid_points(n, n, [&](int i, int j) { return map((normal + tangent(i) * u + tangent(j) * v).normalized()); }),
@@ -209,7 +211,7 @@ SurfaceMesh extrude(const SurfaceMesh& region, const std::vector<double>& c_samp
   for (Eigen::Index t = 0; t < region.F.rows(); ++t)
     for (int k = 0; k < 3; ++k) directed[{region.F(t, k), region.F(t, (k + 1) % 3)}] = 1;
   for (const auto& edge : directed) {
-    const auto [p, q] = edge.first;
+    const int p = edge.first.first, q = edge.first.second;
     if (directed.count({q, p})) continue;  // interior edge
     s.add_grid(grid_points(1, nc, [&](int i, int j) { return at(i == 0 ? p : q, c_samples[static_cast<size_t>(j)]); }),
                1, nc, false);

@@ -1,9 +1,12 @@
 // Readers for triangle surfaces: OBJ, OFF, STL (ASCII and binary), PLY, VTU.
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include "atomic_file.h"
@@ -37,13 +40,17 @@ SurfaceMesh finish(const std::string& file, const RawSurface& s, double scale) {
         throw MeshError(file, "vertex " + std::to_string(i) + " has a NaN or Inf coordinate");
       m.V(static_cast<Eigen::Index>(i), d) = s.points[i][d] * scale;
     }
+  // Vertex indices are ints (mesh_types.h).
+  if (s.points.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
+    throw MeshError(file, std::to_string(s.points.size()) + " vertices, more than a mesh can index");
   m.F.resize(static_cast<Eigen::Index>(s.triangles.size()), 3);
   size_t bad = 0;
   for (size_t t = 0; t < s.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const long idx = s.triangles[t][k];
-      if (idx < 0 || idx >= static_cast<long>(s.points.size())) ++bad;
-      m.F(static_cast<Eigen::Index>(t), k) = static_cast<int>(idx);
+      const bool in_range = idx >= 0 && idx < static_cast<long>(s.points.size());
+      if (!in_range) ++bad;
+      m.F(static_cast<Eigen::Index>(t), k) = in_range ? static_cast<int>(idx) : 0;
     }
   if (bad)
     throw MeshError(file, std::to_string(bad) + " triangle vertex indices out of range [0, " +
@@ -82,7 +89,7 @@ SurfaceMesh read_off(const std::string& file, double scale) {
   if (t[0] == "OFF")
     first = 1;
   else if (t[0].size() > 3 && t[0].compare(0, 3, "OFF") == 0 && t[0] != "OFF")
-    c.fail("unsupported OFF variant '" + t[0] + "'");
+    c.fail("unsupported OFF variant '" + detail::shown(t[0]) + "'");
   else
     c.fail("not an OFF file (missing 'OFF' header)");
   if (t.size() == first)
@@ -90,9 +97,10 @@ SurfaceMesh read_off(const std::string& file, double scale) {
   else
     t.erase(t.begin());
   if (t.size() < 2) c.fail("expected vertex and face counts");
-  const long nv = to_long(c, t[0]), nf = to_long(c, t[1]);
-  if (nv < 0 || nf < 0) c.fail("negative counts");
+  const long nv = c.count(t[0], "vertices", sizeof(std::array<double, 3>));
+  const long nf = c.count(t[1], "faces", sizeof(std::array<long, 3>));
   RawSurface s;
+  s.points.reserve(static_cast<size_t>(nv));
   for (long i = 0; i < nv; ++i) {
     auto p = c.next("vertex " + std::to_string(i) + " of " + std::to_string(nv));
     if (p.size() < 3) c.fail("vertex needs 3 coordinates");
@@ -101,7 +109,8 @@ SurfaceMesh read_off(const std::string& file, double scale) {
   for (long f = 0; f < nf; ++f) {
     auto p = c.next("face " + std::to_string(f) + " of " + std::to_string(nf));
     const long n = to_long(c, p[0]);
-    if (n < 3 || static_cast<long>(p.size()) < n + 1) c.fail("face has too few vertex indices");
+    if (n < 3 || n > static_cast<long>(p.size()) - 1)
+      c.fail("face says " + p[0] + " vertices and lists " + std::to_string(p.size() - 1) + " (at least 3 needed)");
     std::vector<long> poly;
     for (long k = 1; k <= n; ++k) poly.push_back(to_long(c, p[static_cast<size_t>(k)]));
     add_polygon(s, poly);
@@ -186,12 +195,26 @@ struct PlyElement {
   std::vector<PlyProperty> props;
 };
 
-int ply_type_size(const std::string& file, const std::string& t) {
+/// The size of a PLY scalar type in bytes; 0 for an unknown type.
+int ply_type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
   if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
   if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
   if (t == "double" || t == "float64") return 8;
-  throw MeshError(file, "unknown PLY property type '" + t + "'");
+  return 0;
+}
+
+bool ply_integer_type(const std::string& t) {
+  return t != "float" && t != "float32" && t != "double" && t != "float64";
+}
+
+/// A value read from a PLY file used as a count or an index: a whole number in
+/// [0, max] (a float type may hold anything, and a cast of it beyond long is undefined).
+long ply_whole(const std::string& file, double v, double max, const std::string& what) {
+  if (!(v >= 0 && v <= max) || v != std::floor(v))
+    throw MeshError(file, what + " " + detail::shown(std::to_string(v)) + " is not a whole number in [0, " +
+                              std::to_string(static_cast<long>(max)) + "]");
+  return static_cast<long>(v);
 }
 
 /// Reads binary PLY values with the file's byte order.
@@ -200,8 +223,8 @@ class PlyBinary {
   PlyBinary(std::string file, const std::string& data, size_t pos, bool big_endian)
       : file_(std::move(file)), data_(data), pos_(pos), big_(big_endian) {}
   double read(const std::string& t) {
-    const int n = ply_type_size(file_, t);
-    if (pos_ + n > data_.size()) throw MeshError(file_, "truncated binary PLY");
+    const size_t n = static_cast<size_t>(ply_type_size(t));  // the header check made it 1, 2, 4 or 8
+    if (n > data_.size() - pos_) throw MeshError(file_, "truncated binary PLY (at byte " + std::to_string(pos_) + ")");
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, n);
     pos_ += n;
@@ -219,6 +242,7 @@ class PlyBinary {
     if (t == "float" || t == "float32") return get(float{});
     return get(double{});
   }
+  size_t left() const { return data_.size() - pos_; }
 
  private:
   std::string file_;
@@ -229,32 +253,72 @@ class PlyBinary {
 
 SurfaceMesh read_ply(const std::string& file, double scale) {
   const std::string data = read_file(file);
-  const size_t header_end = data.find("end_header");
   if (data.compare(0, 3, "ply") != 0) throw MeshError(file, "not a PLY file (missing 'ply' magic)");
+  const size_t header_end = data.find("end_header");
   if (header_end == std::string::npos) throw MeshError(file, "truncated PLY header (no end_header)");
   std::istringstream hs(data.substr(0, header_end));
   std::string line, format;
   std::vector<PlyElement> elements;
+  int line_no = 0;
+  auto header_fail = [&](const std::string& problem) {
+    throw MeshError(file, "header line " + std::to_string(line_no) + ": " + problem);
+  };
+  auto check_type = [&](const std::string& t) {
+    if (!ply_type_size(t)) header_fail("unknown PLY property type '" + detail::shown(t) + "'");
+  };
   while (std::getline(hs, line)) {
+    ++line_no;
     auto t = detail::split_whitespace(line);
-    if (t.empty()) continue;
-    if (t[0] == "format" && t.size() > 1)
+    if (t.empty() || t[0] == "comment" || t[0] == "obj_info" || (line_no == 1 && t[0] == "ply")) continue;
+    if (t[0] == "format") {
+      if (t.size() < 2) header_fail("format line without a format");
       format = t[1];
-    else if (t[0] == "element" && t.size() == 3)
-      elements.push_back({t[1], std::stol(t[2]), {}});
-    else if (t[0] == "property" && !elements.empty()) {
-      if (t.size() == 5 && t[1] == "list")
+    } else if (t[0] == "element") {
+      if (t.size() != 3) header_fail("expected 'element <name> <count>', found '" + detail::shown(line) + "'");
+      char* end = nullptr;
+      errno = 0;
+      const long n = std::strtol(t[2].c_str(), &end, 10);
+      if (end != t[2].c_str() + t[2].size() || errno == ERANGE || n < 0)
+        header_fail("element count '" + detail::shown(t[2]) + "' is not a whole number >= 0");
+      elements.push_back({t[1], n, {}});
+    } else if (t[0] == "property") {
+      if (elements.empty()) header_fail("property before any element");
+      if (t.size() == 5 && t[1] == "list") {
+        check_type(t[2]);
+        check_type(t[3]);
+        if (!ply_integer_type(t[2])) header_fail("a list count of type '" + t[2] + "' (an integer type is needed)");
         elements.back().props.push_back({t[4], t[3], t[2]});
-      else if (t.size() == 3)
+      } else if (t.size() == 3) {
+        check_type(t[1]);
         elements.back().props.push_back({t[2], t[1], ""});
-      else
-        throw MeshError(file, "malformed PLY property line '" + line + "'");
+      } else {
+        header_fail("malformed property line '" + detail::shown(line) + "'");
+      }
     }
   }
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-    throw MeshError(file, "unsupported PLY format '" + format + "'");
+    throw MeshError(file, "unsupported PLY format '" + detail::shown(format) + "'");
   size_t body = data.find('\n', header_end);
   body = body == std::string::npos ? data.size() : body + 1;
+  const bool binary = format != "ascii";
+  for (const PlyElement& e : elements) {
+    // Each item takes at least one line (ascii) or its scalars' and list counts'
+    // bytes (binary), so a count the rest of the file cannot hold is a damaged
+    // header; an element without properties holds nothing to read.
+    if (e.props.empty()) {
+      if (e.count > 0) throw MeshError(file, "element '" + detail::shown(e.name) + "' has no properties");
+      continue;
+    }
+    size_t item_bytes = 0;
+    for (const PlyProperty& p : e.props)
+      item_bytes += static_cast<size_t>(ply_type_size(p.list_count_type.empty() ? p.type : p.list_count_type));
+    const size_t room = (data.size() - body) / (binary ? item_bytes : 2);
+    if (static_cast<size_t>(e.count) > room)
+      throw MeshError(file, "truncated PLY: the header says " + std::to_string(e.count) + " " + detail::shown(e.name) +
+                                " elements, more than the rest of the file can hold (at most " + std::to_string(room) +
+                                ")");
+    detail::check_allocation(file, static_cast<size_t>(e.count), 24, e.name + " elements");
+  }
 
   RawSurface s;
   auto store = [&](const PlyElement& e, const std::vector<double>& scalars, const std::vector<long>& list) {
@@ -274,25 +338,25 @@ SurfaceMesh read_ply(const std::string& file, double scale) {
       add_polygon(s, list);
     }
   };
-  if (format == "ascii") {
+  std::vector<double> scalars;
+  std::vector<long> list;
+  if (!binary) {
     LineCursor c(file, data.substr(body), 0);
     for (const auto& e : elements)
       for (long i = 0; i < e.count; ++i) {
         auto t = c.next(e.name + " " + std::to_string(i) + " of " + std::to_string(e.count));
-        std::vector<double> scalars;
-        std::vector<long> list;
+        scalars.clear();
+        list.clear();
         size_t pos = 0;
         for (const auto& p : e.props) {
-          if (pos >= t.size()) c.fail("too few values for " + e.name);
+          if (pos >= t.size()) c.fail("too few values for " + detail::shown(e.name));
           if (p.list_count_type.empty()) {
             scalars.push_back(to_double(c, t[pos++]));
           } else {
             const long n = to_long(c, t[pos++]);
+            if (n < 0 || n > static_cast<long>(t.size() - pos)) c.fail("list shorter than its count");
             scalars.push_back(0);
-            for (long k = 0; k < n; ++k) {
-              if (pos >= t.size()) c.fail("list shorter than its count");
-              list.push_back(to_long(c, t[pos++]));
-            }
+            for (long k = 0; k < n; ++k) list.push_back(to_long(c, t[pos++]));
           }
         }
         store(e, scalars, list);
@@ -301,15 +365,22 @@ SurfaceMesh read_ply(const std::string& file, double scale) {
     PlyBinary b(file, data, body, format == "binary_big_endian");
     for (const auto& e : elements)
       for (long i = 0; i < e.count; ++i) {
-        std::vector<double> scalars;
-        std::vector<long> list;
+        scalars.clear();
+        list.clear();
         for (const auto& p : e.props) {
           if (p.list_count_type.empty()) {
             scalars.push_back(b.read(p.type));
           } else {
-            const long n = static_cast<long>(b.read(p.list_count_type));
+            const size_t item = static_cast<size_t>(ply_type_size(p.type));
+            const long n =
+                ply_whole(file, b.read(p.list_count_type), 9.0e15, "a list count of element " + detail::shown(e.name));
+            if (static_cast<size_t>(n) > b.left() / item)
+              throw MeshError(file, "truncated binary PLY (a list of " + std::to_string(n) + " entries with room for " +
+                                        std::to_string(b.left() / item) + ")");
             scalars.push_back(0);
-            for (long k = 0; k < n; ++k) list.push_back(static_cast<long>(b.read(p.type)));
+            for (long k = 0; k < n; ++k)
+              list.push_back(
+                  ply_whole(file, b.read(p.type), 9.0e15, "a list entry of element " + detail::shown(e.name)));
           }
         }
         store(e, scalars, list);

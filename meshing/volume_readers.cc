@@ -2,6 +2,7 @@
 // VTU. Each result passes orient_and_check_tets (mesh_checks.h) before it returns.
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <unordered_map>
 
 #include "atomic_file.h"
@@ -26,6 +27,9 @@ struct IdMesh {
 TetMesh resolve_ids(const std::string& file, const IdMesh& m, double scale, FlatTets flat) {
   if (m.points.empty()) throw MeshError(file, "no nodes");
   if (m.tets.empty()) throw MeshError(file, "no tetrahedra");
+  // Node indices are ints (mesh_types.h).
+  if (m.points.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
+    throw MeshError(file, std::to_string(m.points.size()) + " nodes, more than a mesh can index");
   std::unordered_map<long, int> index;
   for (size_t i = 0; i < m.ids.size(); ++i)
     if (!index.emplace(m.ids[i], static_cast<int>(i)).second)
@@ -61,7 +65,7 @@ std::array<double, 3> read_xyz(LineCursor& c, const std::vector<std::string>& t,
 
 void expect_section_end(LineCursor& c, const std::string& end) {
   auto t = c.next(end);
-  if (t[0] != end) c.fail("expected " + end + ", found '" + t[0] + "'");
+  if (t[0] != end) c.fail("expected " + end + ", found '" + detail::shown(t[0]) + "'");
 }
 
 TetMesh read_msh(const std::string& file, double scale) {
@@ -73,12 +77,14 @@ TetMesh read_msh(const std::string& file, double scale) {
     if (t[0] == "$MeshFormat") {
       auto f = c.next("mesh format");
       if (f.size() < 3) c.fail("malformed $MeshFormat");
-      if (f[0][0] != '2') c.fail("unsupported Gmsh version " + f[0] + " (versions 1 and 2 are read)");
+      if (f[0][0] != '2') c.fail("unsupported Gmsh version " + detail::shown(f[0]) + " (versions 1 and 2 are read)");
       if (f[1] != "0") c.fail("binary Gmsh files are not supported");
       v2 = true;
       expect_section_end(c, "$EndMeshFormat");
     } else if (t[0] == "$NOD" || t[0] == "$Nodes") {
-      const long n = to_long(c, c.next("node count")[0]);
+      const long n = c.count(c.next("node count")[0], "nodes", sizeof(long) + sizeof(std::array<double, 3>));
+      m.ids.reserve(m.ids.size() + static_cast<size_t>(n));
+      m.points.reserve(m.points.size() + static_cast<size_t>(n));
       for (long i = 0; i < n; ++i) {
         auto p = c.next("node " + std::to_string(i + 1) + " of " + std::to_string(n));
         m.ids.push_back(to_long(c, p[0]));
@@ -87,14 +93,18 @@ TetMesh read_msh(const std::string& file, double scale) {
       expect_section_end(c, v2 ? "$EndNodes" : "$ENDNOD");
       have_nodes = true;
     } else if (t[0] == "$ELM" || t[0] == "$Elements") {
-      const long n = to_long(c, c.next("element count")[0]);
+      // Elements other than tetrahedra are skipped, so the count bounds no allocation.
+      const long n = c.count(c.next("element count")[0], "elements", 0);
       for (long i = 0; i < n; ++i) {
         auto e = c.next("element " + std::to_string(i + 1) + " of " + std::to_string(n));
         if (e.size() < 3) c.fail("malformed element line");
         const long type = to_long(c, e[1]);
-        // v1: id type phys elem nnodes nodes... ; v2: id type ntags tags... nodes...
-        size_t first = v2 ? 3 + static_cast<size_t>(to_long(c, e[2])) : 5;
         if (type != 4) continue;  // 4 = 4-node tetrahedron; points, lines, triangles ignored
+        // v1: id type phys elem nnodes nodes... ; v2: id type ntags tags... nodes...
+        const long tags = v2 ? to_long(c, e[2]) : 0;
+        if (tags < 0 || tags > static_cast<long>(e.size()))
+          c.fail("element says " + detail::shown(e[2]) + " tags and has " + std::to_string(e.size()) + " fields");
+        const size_t first = v2 ? 3 + static_cast<size_t>(tags) : 5;
         if (e.size() < first + 4) c.fail("tetrahedron with fewer than 4 nodes");
         m.tets.push_back(
             {to_long(c, e[first]), to_long(c, e[first + 1]), to_long(c, e[first + 2]), to_long(c, e[first + 3])});
@@ -121,8 +131,10 @@ std::string with_extension(const std::string& path, const std::string& ext) {
 long read_tetgen_nodes(const std::string& node_file, IdMesh& m) {
   LineCursor c(node_file, read_file(node_file), '#');
   auto h = c.next("node header");
-  const long n = to_long(c, h[0]);
+  const long n = c.count(h[0], "nodes", sizeof(long) + sizeof(std::array<double, 3>));
   if (h.size() > 1 && to_long(c, h[1]) != 3) c.fail("only 3-D .node files are read");
+  m.ids.reserve(static_cast<size_t>(n));
+  m.points.reserve(static_cast<size_t>(n));
   long first = 0;
   for (long i = 0; i < n; ++i) {
     auto p = c.next("node " + std::to_string(i) + " of " + std::to_string(n));
@@ -139,8 +151,9 @@ TetMesh read_tetgen(const std::string& path, double scale, FlatTets flat) {
   const std::string ele = with_extension(path, ".ele");
   LineCursor c(ele, read_file(ele), '#');
   auto h = c.next("element header");
-  const long n = to_long(c, h[0]);
+  const long n = c.count(h[0], "tetrahedra", sizeof(std::array<long, 4>));
   if (h.size() > 1 && to_long(c, h[1]) != 4) c.fail("only 4-node tetrahedra are read");
+  m.tets.reserve(static_cast<size_t>(n));
   for (long i = 0; i < n; ++i) {
     auto e = c.next("element " + std::to_string(i) + " of " + std::to_string(n));
     if (e.size() < 5) c.fail("tetrahedron with fewer than 4 nodes");
@@ -153,12 +166,19 @@ TetMesh read_tetgen(const std::string& path, double scale, FlatTets flat) {
 
 Triangles read_tetgen_faces(const std::string& face_path, int first_index) {
   LineCursor c(face_path, read_file(face_path), '#');
-  const long n = to_long(c, c.next("face header")[0]);
+  // The count sizes the result before any face is read: bounded by the file first.
+  const long n = c.count(c.next("face header")[0], "faces", 3 * sizeof(int));
   Triangles F(n, 3);
   for (long i = 0; i < n; ++i) {
     auto f = c.next("face " + std::to_string(i) + " of " + std::to_string(n));
     if (f.size() < 4) c.fail("face with fewer than 3 nodes");
-    for (int k = 0; k < 3; ++k) F(i, k) = static_cast<int>(to_long(c, f[static_cast<size_t>(k) + 1]) - first_index);
+    for (int k = 0; k < 3; ++k) {
+      const long node = to_long(c, f[static_cast<size_t>(k) + 1]);
+      if (node < first_index || node > first_index + static_cast<long>(std::numeric_limits<int>::max()))
+        c.fail("node " + detail::shown(f[static_cast<size_t>(k) + 1]) + " is below the first index " +
+               std::to_string(first_index) + " or beyond what a mesh can index");
+      F(i, k) = static_cast<int>(node - first_index);
+    }
   }
   return F;
 }

@@ -76,7 +76,7 @@ std::vector<T> parse_numbers(const std::string& file, const std::string& text, c
   while (ss >> tok) {
     std::istringstream ts(tok);
     T v;
-    if (!(ts >> v) || !ts.eof()) throw MeshError(file, "malformed number '" + tok + "' in " + what);
+    if (!(ts >> v) || !ts.eof()) throw MeshError(file, "malformed number '" + detail::shown(tok) + "' in " + what);
     if constexpr (std::is_floating_point_v<T>)
       if (!std::isfinite(v)) throw MeshError(file, "NaN or Inf in " + what);
     out.push_back(v);

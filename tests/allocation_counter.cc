@@ -4,13 +4,13 @@
 #include <cerrno>
 #include <cstddef>
 
-// glibc's own entry points, which the replacements below forward to.
-extern "C" {
-void* __libc_malloc(size_t);
-void* __libc_calloc(size_t, size_t);
-void* __libc_realloc(void*, size_t);
-void* __libc_memalign(size_t, size_t);
-}
+#if defined(__SANITIZE_ADDRESS__)
+#define TB_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TB_ASAN 1
+#endif
+#endif
 
 namespace {
 std::atomic<bool> counting{false};
@@ -19,6 +19,24 @@ inline void note() {
   if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
 }
 }  // namespace
+
+#ifdef TB_ASAN
+// Under AddressSanitizer (TB_SANITIZE) its allocator serves every allocation, so
+// the C library's entry points cannot be replaced: count through its hook instead.
+#include <sanitizer/allocator_interface.h>
+
+namespace {
+void on_malloc(const volatile void*, size_t) { note(); }
+[[maybe_unused]] const int hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, nullptr);
+}  // namespace
+#else
+// glibc's own entry points, which the replacements below forward to.
+extern "C" {
+void* __libc_malloc(size_t);
+void* __libc_calloc(size_t, size_t);
+void* __libc_realloc(void*, size_t);
+void* __libc_memalign(size_t, size_t);
+}
 
 extern "C" {
 void* malloc(size_t n) {
@@ -49,6 +67,7 @@ int posix_memalign(void** out, size_t alignment, size_t n) {
   return 0;
 }
 }
+#endif
 
 namespace tb::testing {
 
