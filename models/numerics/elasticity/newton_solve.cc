@@ -87,6 +87,7 @@ class NewtonSolve : public ElasticSolve {
       f = (1 - target) * f_converged_ + target * f_free;
       Eigen::VectorXd trial = state;
       set_constrained(u_start, u_target, target, trial);
+      predict_interior(state, f, trial);
       if (newton(f, trial)) {
         state = trial;
         done = target;
@@ -121,6 +122,37 @@ class NewtonSolve : public ElasticSolve {
   void set_constrained(const Eigen::VectorXd& from, const Eigen::VectorXd& to, double t, Eigen::VectorXd& u) const {
     for (int d = 0; d < body_.dofs(); ++d)
       if (body_.free_index(d) < 0) u(d) = (1 - t) * from(d) + t * to(d);
+  }
+
+  /// Where the increment moves prescribed dofs (a plate, a grasp), the free dofs of
+  /// `trial` are moved with them by one linearised step from the converged `state`:
+  /// K_ff du_f = -(f_int_f(state) - f) - K_fp du_p, the first Newton step of the
+  /// increment with the held values' increment as inhomogeneous constraints (the
+  /// predictor of deal.II's step-44, Pelteret and McBride 2012). Without it the held
+  /// nodes move alone and crush the layer of cells beside them, which halves the
+  /// increments until they are a fraction of a cell. Kept only if the law stays
+  /// defined there; Newton then starts from it.
+  void predict_interior(const Eigen::VectorXd& state, const Eigen::VectorXd& f, Eigen::VectorXd& trial) {
+    const Eigen::VectorXd du_p = trial - state;  // nonzero on prescribed dofs only
+    if (du_p.lpNorm<Eigen::Infinity>() == 0) return;
+    if (!assemble(state, true)) return;
+    Eigen::VectorXd r, coupling;
+    residual(f, r);
+    body_.to_free(K_full_ * du_p, coupling);
+    if (!factorize_tangent()) return;
+    const Eigen::VectorXd du_free = cholesky_.solve(-r - coupling);
+    Eigen::VectorXd du_full = Eigen::VectorXd::Zero(body_.dofs());
+    body_.to_full(du_free, du_full);
+    Eigen::VectorXd predicted = trial + du_full;
+    if (assemble(predicted, false)) trial = std::move(predicted);
+  }
+
+  /// Factorises the free block of the tangent last assembled; false where it is not
+  /// positive definite.
+  bool factorize_tangent() {
+    for (size_t k = 0; k < free_from_full_.size(); ++k) K_free_.valuePtr()[k] = K_full_.valuePtr()[free_from_full_[k]];
+    cholesky_.factorize(K_free_);
+    return cholesky_.info() == Eigen::Success;
   }
 
   /// f_int (3 #V) and, with `tangent`, the tangent's values on K's pattern at u.
@@ -166,9 +198,7 @@ class NewtonSolve : public ElasticSolve {
       if (r_norm <= o_.tolerance * scale) return true;
       if (it == o_.max_iterations) return false;
       ++iterations_;
-      for (size_t k = 0; k < free_from_full_.size(); ++k) K_free_.valuePtr()[k] = K_full_.valuePtr()[free_from_full_[k]];
-      cholesky_.factorize(K_free_);
-      if (cholesky_.info() != Eigen::Success) return false;  // not positive definite here
+      if (!factorize_tangent()) return false;
       du_free = cholesky_.solve(-r);
       du_full = Eigen::VectorXd::Zero(body_.dofs());
       body_.to_full(du_free, du_full);
