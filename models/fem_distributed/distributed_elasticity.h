@@ -82,8 +82,9 @@ class DistributedElasticity {
   /// that every model holds what tool_vertices() chose. Boundary edges are the
   /// edges of tet faces that belong to one tet only.
   /// Throws std::invalid_argument, besides the above, when a group is empty, names
-  /// a node outside the mesh or a node another group holds, or holds a dof the
-  /// support clamps, and when neither the support nor a group holds a dof.
+  /// a node outside the mesh or a node another group holds in the same component,
+  /// or holds a dof the support clamps, and when neither the support nor a group
+  /// holds a dof.
   DistributedElasticity(const TetMesh& mesh, const Material& material, const Predicate& support,
                         const DistributedSettings& settings, MPI_Comm comm, const Field& prescribed = {},
                         const std::vector<PrescribedGroup>& groups = {});
@@ -114,8 +115,10 @@ class DistributedElasticity {
 
   /// Fixes the points probe_displacements() reads: point p (row p of `points`,
   /// rest configuration) in the TetMesh tet tets[p] (place_probes in
-  /// tool_placement.h). Collective. Throws std::invalid_argument if the sizes
-  /// differ or a tet index is outside the mesh.
+  /// tool_placement.h); each rank keeps those in its own cells. Every rank passes
+  /// the same points. Throws std::invalid_argument if the sizes differ or a tet
+  /// index is outside the mesh.
+  ///   points  #P by 3, tets  #P
   void set_probes(const Points& points, const std::vector<int>& tets);
   /// The displacement at the probes (#P by 3), the same on every rank: the FE field
   /// (P1 or P2) of the cell of the probe's tet at its reference point, from the rank
