@@ -5,14 +5,18 @@
 //  2. Mesh: a parallel::fullydistributed::Triangulation from a description of the
 //     rank's tets plus the ghost layer (tets sharing a node with them); a coarse
 //     cell's id is its tet's index, which ties deal.II's cells to the TetMesh.
-//  3. Dofs: FESystem(FE_SimplexP(degree), 3); a dof is prescribed when its support
+//  3. Dofs: FESystem(FE_SimplexP(degree), 3); a dof is clamped when its support
 //     point (a node, or an edge midpoint for P2, computed exactly from the nodes)
-//     is in the support.
+//     is in the support, and held by a group (a tool) when its node is the group's
+//     or (P2) it is the midpoint of a boundary edge whose two nodes are.
 //  4. K from the element matrices of eq. (9) (elasticity_cell.h, the serial path's
 //     own function), Trilinos CrsMatrix; AMG (ML smoothed aggregation) with the
-//     rigid-body modes as near null space, built once.
+//     rigid-body modes as near null space, built once. The groups' columns of K,
+//     kept aside per group and component (group_lift), give the right-hand side of
+//     any values of theirs: K_ff u_f = f_f - K_fp u_p.
 //  5. Each solve: f from the load points (eq. 10 with the cell's shape functions),
-//     CG warm-started from the previous solution.
+//     CG warm-started from the previous solution; then the reactions (the load's
+//     share minus the internal force at the constrained dofs).
 #include "distributed_elasticity.h"
 
 #include <Epetra_MultiVector.h>
@@ -28,6 +32,7 @@
 #include <Teuchos_ParameterList.hpp>
 #include <algorithm>
 #include <chrono>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -124,6 +129,67 @@ TriangulationDescription::Description<3, 3> describe(const TetMesh& m, const std
 
 Eigen::Vector3d to_eigen(const Point<3>& p) { return {p[0], p[1], p[2]}; }
 
+/// The group holding each node's component c at 3 node + c (-1: none), the groups
+/// checked. A node may be in several groups for different components (sliding
+/// plates on two faces of an edge).
+std::vector<int> node_groups(const TetMesh& m, const std::vector<PrescribedGroup>& groups) {
+  std::vector<int> group(3 * static_cast<size_t>(m.V.rows()), -1);
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::string name = "distributed FEM: prescribed group " + std::to_string(g);
+    if (groups[g].nodes.empty()) throw std::invalid_argument(name + " has no node");
+    if (!groups[g].components[0] && !groups[g].components[1] && !groups[g].components[2])
+      throw std::invalid_argument(name + " holds no component");
+    for (int n : groups[g].nodes) {
+      if (n < 0 || n >= m.V.rows())
+        throw std::invalid_argument(name + " names node " + std::to_string(n) + ", outside the mesh's " +
+                                    std::to_string(m.V.rows()) + " nodes");
+      for (int c = 0; c < 3; ++c) {
+        if (!groups[g].components[c]) continue;
+        int& owner = group[3 * static_cast<size_t>(n) + static_cast<size_t>(c)];
+        if (owner >= 0 && owner != static_cast<int>(g))
+          throw std::invalid_argument("distributed FEM: node " + std::to_string(n) + " is held by groups " +
+                                      std::to_string(owner) + " and " + std::to_string(g) + " in component " +
+                                      std::to_string(c));
+        owner = static_cast<int>(g);
+      }
+    }
+  }
+  return group;
+}
+
+/// The edges of the boundary faces (tet faces that belong to one tet only) whose
+/// two nodes one group holds in a component: {lower node, higher node, component}.
+std::set<std::array<int, 3>> held_boundary_edges(const TetMesh& m, const std::vector<int>& group) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  auto held = [&](int a, int b, int c) {
+    const int g = group[3 * static_cast<size_t>(a) + static_cast<size_t>(c)];
+    return g >= 0 && g == group[3 * static_cast<size_t>(b) + static_cast<size_t>(c)];
+  };
+  auto any_held = [&](int a, int b) { return held(a, b, 0) || held(a, b, 1) || held(a, b, 2); };
+  // Only faces with a held pair can give one; an interior face appears twice.
+  std::vector<std::array<int, 3>> faces;
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+    for (const auto& f : kFace) {
+      std::array<int, 3> n = {{m.T(t, f[0]), m.T(t, f[1]), m.T(t, f[2])}};
+      if (!any_held(n[0], n[1]) && !any_held(n[0], n[2]) && !any_held(n[1], n[2])) continue;
+      std::sort(n.begin(), n.end());
+      faces.push_back(n);
+    }
+  std::sort(faces.begin(), faces.end());
+  std::set<std::array<int, 3>> edges;
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i;
+    while (j < faces.size() && faces[j] == faces[i]) ++j;
+    if (j - i == 1)
+      for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b)
+          for (int c = 0; c < 3; ++c)
+            if (held(faces[i][a], faces[i][b], c)) edges.insert(std::array<int, 3>{{faces[i][a], faces[i][b], c}});
+    i = j;
+  }
+  return edges;
+}
+
 /// Seconds since `start`, which is reset.
 double lap(std::chrono::steady_clock::time_point& start) {
   const auto now = std::chrono::steady_clock::now();
@@ -146,14 +212,19 @@ DistributedElasticity::Impl::Impl(MPI_Comm c, const DistributedSettings& s, cons
 
 DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material& material, const Predicate& support,
                                              const DistributedSettings& settings, MPI_Comm comm,
-                                             const Field& prescribed) {
+                                             const Field& prescribed, const std::vector<PrescribedGroup>& groups) {
   if (settings.degree != 1 && settings.degree != 2)
     throw std::invalid_argument("distributed FEM: degree " + std::to_string(settings.degree) +
                                 " is not supported (1: P1, 2: P2)");
   if (prescribed && settings.law != "linear")
     throw std::invalid_argument("distributed FEM: prescribed displacements need the linear law");
+  const std::vector<int> node_group = node_groups(mesh, groups);
   impl_ = std::make_unique<Impl>(comm, settings, material);
   Impl& d = *impl_;
+  d.groups = groups;
+  d.group_values.assign(groups.size(), Eigen::Vector3d::Zero());
+  d.reactions.assign(groups.size() + 1, Eigen::Vector3d::Zero());
+  d.n_tets = mesh.T.rows();
   const unsigned rank = Utilities::MPI::this_mpi_process(comm), ranks = Utilities::MPI::n_mpi_processes(comm);
 
   // 1-2. Partition and the distributed mesh.
@@ -183,42 +254,102 @@ DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material
   d.owned_components.resize(d.owned.n_elements());
   d.cell_tet.assign(d.tria.n_active_cells(), -1);
   d.cell_nodes.resize(d.tria.n_active_cells());
+  // A group's P2 midside dofs: on the boundary edges both of whose nodes it holds
+  // (distributed_elasticity.h says why).
+  const std::set<std::array<int, 3>> held_edges =
+      groups.empty() || settings.degree == 1 ? std::set<std::array<int, 3>>() : held_boundary_edges(mesh, node_group);
   std::vector<types::global_dof_index> ids(n);
-  long long prescribed_here = 0;
+  long long supported_here = 0, held_here = 0;
+  std::vector<long long> clamped_and_held(groups.size(), 0), held_by_group(groups.size(), 0);
   for (const auto& cell : d.dof_handler.active_cell_iterators()) {
     if (cell->is_artificial()) continue;
-    cell->get_dof_indices(ids);
-    for (unsigned i = 0; i < n; ++i) {
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
-      for (unsigned k = 0; k < 4; ++k) x += lambda[i][k] * to_eigen(cell->vertex(k));
-      if (d.owned.is_element(ids[i])) {
-        d.owned_support_points[d.owned.index_within_set(ids[i])] = x;
-        d.owned_components[d.owned.index_within_set(ids[i])] = d.component[i];
-      }
-      if (d.constraints.is_constrained(ids[i]) || !support(x)) continue;
-      d.constraints.add_line(ids[i]);
-      d.zero_constraints.add_line(ids[i]);
-      if (prescribed) d.constraints.set_inhomogeneity(ids[i], prescribed(x)[d.component[i]]);
-      prescribed_here += d.owned.is_element(ids[i]);
-    }
-    if (!cell->is_locally_owned()) continue;
     // The TetMesh nodes of the cell's vertices, matched by position.
     const int tet = static_cast<int>(cell->id().get_coarse_cell_id());
     d.cell_tet[cell->active_cell_index()] = tet;
+    std::array<int, 4>& nodes = d.cell_nodes[cell->active_cell_index()];
     for (unsigned k = 0; k < 4; ++k) {
       int node = -1;
       for (int j = 0; j < 4; ++j)
         if (mesh.V.row(mesh.T(tet, j)).transpose() == to_eigen(cell->vertex(k))) node = mesh.T(tet, j);
       if (node < 0) throw std::logic_error("distributed FEM: a cell's vertex is not a node of its tet");
-      d.cell_nodes[cell->active_cell_index()][k] = node;
+      nodes[k] = node;
+    }
+    cell->get_dof_indices(ids);
+    for (unsigned i = 0; i < n; ++i) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (unsigned k = 0; k < 4; ++k) x += lambda[i][k] * to_eigen(cell->vertex(k));
+      const bool owned = d.owned.is_element(ids[i]);
+      if (owned) {
+        d.owned_support_points[d.owned.index_within_set(ids[i])] = x;
+        d.owned_components[d.owned.index_within_set(ids[i])] = d.component[i];
+      }
+      if (d.constraints.is_constrained(ids[i])) continue;
+      // Its group: the node's in its component (a vertex dof), or the edge's when
+      // one group holds both its nodes in that component and it is a boundary edge
+      // (a P2 midside dof: unit support point barycentrics 1/2, 1/2).
+      const int c = static_cast<int>(d.component[i]);
+      int group = -1;
+      std::array<int, 2> at{{-1, -1}};
+      int count = 0;
+      for (unsigned k = 0; k < 4; ++k)
+        if (lambda[i][k] > 0.25 && count < 2) at[static_cast<size_t>(count++)] = nodes[k];
+      if (count == 1) {
+        group = node_group[3 * static_cast<size_t>(at[0]) + static_cast<size_t>(c)];
+      } else if (count == 2 &&
+                 held_edges.count(std::array<int, 3>{{std::min(at[0], at[1]), std::max(at[0], at[1]), c}})) {
+        group = node_group[3 * static_cast<size_t>(at[0]) + static_cast<size_t>(c)];
+      }
+      const bool clamped = support(x);
+      if (group < 0 && !clamped) continue;
+      d.constraints.add_line(ids[i]);
+      d.zero_constraints.add_line(ids[i]);
+      if (group >= 0 && clamped) {
+        clamped_and_held[static_cast<size_t>(group)] += owned;
+        continue;  // an error below, on every rank
+      }
+      if (group >= 0) {
+        d.held_relevant.push_back({ids[i], group, d.component[i]});
+        d.group_of_dof.emplace(ids[i], group);
+        if (owned) d.held_owned.push_back({ids[i], group, d.component[i]});
+        held_here += owned;
+        held_by_group[static_cast<size_t>(group)] += owned;
+      } else {
+        if (prescribed) d.constraints.set_inhomogeneity(ids[i], prescribed(x)[d.component[i]]);
+        supported_here += owned;
+      }
     }
   }
   d.constraints.close();
   d.zero_constraints.close();
-  long long prescribed_total = 0;
-  MPI_Allreduce(&prescribed_here, &prescribed_total, 1, MPI_LONG_LONG, MPI_SUM, comm);
-  if (prescribed_total == 0)
-    throw std::invalid_argument("distributed FEM: the support selects no dof, so K is singular");
+  // Global counts, the same on every rank (so are the errors below).
+  std::vector<long long> counts = {supported_here, held_here};
+  counts.insert(counts.end(), clamped_and_held.begin(), clamped_and_held.end());
+  counts.insert(counts.end(), held_by_group.begin(), held_by_group.end());
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_LONG_LONG, MPI_SUM, comm);
+  d.stats.supported_dofs = counts[0];
+  d.stats.held_dofs = counts[1];
+  std::copy(counts.begin() + 2, counts.begin() + 2 + static_cast<long>(groups.size()), clamped_and_held.begin());
+  std::copy(counts.begin() + 2 + static_cast<long>(groups.size()), counts.end(), held_by_group.begin());
+  for (size_t g = 0; g < groups.size(); ++g) {
+    if (clamped_and_held[g] > 0)
+      throw std::invalid_argument("distributed FEM: prescribed group " + std::to_string(g) + " holds " +
+                                  std::to_string(clamped_and_held[g]) +
+                                  " dofs the support clamps: a dof cannot be clamped and moved");
+    if (held_by_group[g] == 0)
+      throw std::invalid_argument("distributed FEM: prescribed group " + std::to_string(g) + " holds no dof");
+  }
+  if (d.stats.supported_dofs + d.stats.held_dofs == 0)
+    throw std::invalid_argument("distributed FEM: the support selects no dof and no group holds one, so K is singular");
+  // The owned cells with a constrained dof: where the reactions are measured.
+  for (const auto& cell : d.dof_handler.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    cell->get_dof_indices(ids);
+    for (unsigned i = 0; i < n; ++i)
+      if (d.zero_constraints.is_constrained(ids[i])) {
+        d.constrained_cells.push_back(cell);
+        break;
+      }
+  }
 
   d.stats.dofs_s = lap(clock);
 
@@ -237,15 +368,34 @@ DistributedElasticity::DistributedElasticity(const TetMesh& mesh, const Material
     FullMatrix<double> Ke;
     dealii::Vector<double> no_force(n);
     std::vector<Tensor<1, 3>> grad;
+    d.group_lift.resize(3 * groups.size());
+    for (Impl::Vector& v : d.group_lift) v.reinit(d.owned, comm);
+    std::vector<types::global_dof_index> rows;
+    std::vector<double> values;
     for (const auto& cell : d.dof_handler.active_cell_iterators()) {
       if (!cell->is_locally_owned()) continue;
       fe_values.reinit(cell);
       linear_elastic_cell_matrix(fe_values, d.component, LinearElastic(d.lame), Ke, grad);  // eq. (9)
       cell->get_dof_indices(ids);
       d.constraints.distribute_local_to_global(Ke, no_force, ids, d.K, d.lift);  // lift: -K g of prescribed g
+      // Each held column j: -K_ij on the free rows i, into its group and component's lift.
+      for (unsigned j = 0; j < n; ++j) {
+        if (!d.zero_constraints.is_constrained(ids[j])) continue;
+        const auto it = d.group_of_dof.find(ids[j]);
+        if (it == d.group_of_dof.end()) continue;
+        rows.clear();
+        values.clear();
+        for (unsigned i = 0; i < n; ++i)
+          if (!d.zero_constraints.is_constrained(ids[i])) {
+            rows.push_back(ids[i]);
+            values.push_back(-Ke(i, j));
+          }
+        if (!rows.empty()) d.group_lift[3 * static_cast<size_t>(it->second) + d.component[j]].add(rows, values);
+      }
     }
     d.K.compress(VectorOperation::add);
     d.lift.compress(VectorOperation::add);
+    for (Impl::Vector& v : d.group_lift) v.compress(VectorOperation::add);
     d.stats.assembly_s = lap(clock);
     d.build_amg();
     d.stats.preconditioner_s = lap(clock);
@@ -317,45 +467,167 @@ int DistributedElasticity::Impl::cg(const Vector& b, Vector& x, double tolerance
   return static_cast<int>(control.last_step());
 }
 
+void DistributedElasticity::Impl::cell_load(const Cell& cell, const std::vector<const LoadPoint*>& points,
+                                            const Eigen::Vector3d& force, dealii::Vector<double>& fe_force) const {
+  const unsigned n = fe.n_dofs_per_cell();
+  fe_force.reinit(n);
+  for (const LoadPoint* p : points) {
+    const Point<3> xi =
+        mapping.transform_real_to_unit_cell(cell, Point<3>(p->position.x(), p->position.y(), p->position.z()));
+    for (unsigned i = 0; i < n; ++i) fe_force[i] += fe.shape_value(i, xi) * p->weight * force[component[i]];
+  }
+}
+
+namespace {
+std::unordered_map<int, std::vector<const LoadPoint*>> points_by_tet(const std::vector<LoadPoint>& load) {
+  std::unordered_map<int, std::vector<const LoadPoint*>> by_tet;
+  for (const LoadPoint& p : load) by_tet[p.at.tet].push_back(&p);
+  return by_tet;
+}
+}  // namespace
+
 void DistributedElasticity::Impl::add_load(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
                                            Vector& f) const {
   const unsigned n = fe.n_dofs_per_cell();
   dealii::Vector<double> fe_force(n);
   std::vector<types::global_dof_index> ids(n);
-  std::unordered_map<int, std::vector<const LoadPoint*>> by_tet;
-  for (const LoadPoint& p : load) by_tet[p.at.tet].push_back(&p);
+  const auto by_tet = points_by_tet(load);
   for (const auto& cell : dof_handler.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
     const auto it = by_tet.find(cell_tet[cell->active_cell_index()]);
     if (it == by_tet.end()) continue;
-    fe_force = 0;
-    for (const LoadPoint* p : it->second) {
-      const Point<3> xi =
-          mapping.transform_real_to_unit_cell(cell, Point<3>(p->position.x(), p->position.y(), p->position.z()));
-      for (unsigned i = 0; i < n; ++i) fe_force[i] += fe.shape_value(i, xi) * p->weight * force[component[i]];
-    }
+    cell_load(cell, it->second, force, fe_force);
     cell->get_dof_indices(ids);
-    zero_constraints.distribute_local_to_global(fe_force, ids, f);  // a force on a prescribed dof goes to the support
+    zero_constraints.distribute_local_to_global(fe_force, ids,
+                                                f);  // a force on a constrained dof goes to the support or tool
   }
   f.compress(VectorOperation::add);
 }
 
-void DistributedElasticity::Impl::solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
+DistributedElasticity::Impl::Vector DistributedElasticity::Impl::ghosted(const Vector& owned_vector) const {
+  Vector g(owned, relevant, comm);
+  g = owned_vector;
+  return g;
+}
+
+void DistributedElasticity::Impl::set_held(Vector& x, const std::vector<Eigen::Vector3d>* values) const {
+  for (const HeldDof& h : held_owned) x[h.dof] = values ? (*values)[static_cast<size_t>(h.group)][h.component] : 0.0;
+  x.compress(VectorOperation::insert);
+}
+
+void DistributedElasticity::Impl::solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
+                                               const std::vector<Eigen::Vector3d>& values) {
   auto clock = std::chrono::steady_clock::now();
   Vector f(lift);
+  // K_ff u_f = f_f - K_fp u_p: each held component's value times its column sum.
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (unsigned c = 0; c < 3; ++c)
+      if (groups[g].components[c] && values[g][c] != 0) f.add(values[g][c], group_lift[3 * g + c]);
   add_load(load, force, f);
   Vector x(u);
+  set_held(x, nullptr);  // a held dof's row is decoupled, with right-hand side 0
   stats.cg_iterations = cg(f, x, settings.cg_tolerance);
   stats.solve_s = lap(clock);
   constraints.distribute(x);
+  set_held(x, &values);
   u = x;
 }
 
-void DistributedElasticity::solve(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
-  if (impl_->settings.law == "linear")
-    impl_->solve_linear(load, force);
+void DistributedElasticity::Impl::measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
+  const unsigned n = fe.n_dofs_per_cell();
+  const size_t support = groups.size();  // the support's slot, after the groups'
+  std::vector<double> sums(3 * (support + 1), 0.0);
+  const Vector u_ghosted = ghosted(u);
+  const auto by_tet = points_by_tet(load);
+  FEValues<3> fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
+  FullMatrix<double> Ke;
+  dealii::Vector<double> u_cell(n), Re(n), fe_force(n);
+  std::vector<Tensor<1, 3>> grad;
+  std::vector<types::global_dof_index> ids(n);
+  const bool linear = settings.law == "linear";
+  for (const Cell& cell : constrained_cells) {
+    fe_values.reinit(cell);
+    cell->get_dof_values(u_ghosted, u_cell);
+    cell->get_dof_indices(ids);
+    // The internal force: K^e u^e (eq. 9), or the law's (elasticity_cell.h), defined
+    // at a converged state.
+    if (linear) {
+      linear_elastic_cell_matrix(fe_values, component, LinearElastic(lame), Ke, grad);
+      Ke.vmult(Re, u_cell);
+    } else if (!hyperelastic_cell(fe_values, component, u_cell, *law, lame, nullptr, Re, grad)) {
+      throw std::logic_error("distributed FEM: the converged state has J <= 0 in a cell");
+    }
+    const auto it = by_tet.find(cell_tet[cell->active_cell_index()]);
+    if (it != by_tet.end())
+      cell_load(cell, it->second, force, fe_force);
+    else
+      fe_force = 0;
+    for (unsigned i = 0; i < n; ++i) {
+      if (!zero_constraints.is_constrained(ids[i])) continue;
+      const auto held = group_of_dof.find(ids[i]);
+      const size_t slot = held == group_of_dof.end() ? support : static_cast<size_t>(held->second);
+      sums[3 * slot + component[i]] += fe_force[i] - Re[i];
+    }
+  }
+  // Each cell is one rank's: the sum over ranks counts it once.
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm);
+  for (size_t k = 0; k <= support; ++k) reactions[k] = Eigen::Vector3d(sums[3 * k], sums[3 * k + 1], sums[3 * k + 2]);
+}
+
+void DistributedElasticity::solve(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
+                                  const std::vector<Eigen::Vector3d>& group_values) {
+  Impl& d = *impl_;
+  if (group_values.size() != d.groups.size())
+    throw std::invalid_argument("distributed FEM: " + std::to_string(group_values.size()) + " group values for " +
+                                std::to_string(d.groups.size()) + " prescribed groups");
+  if (d.settings.law == "linear")
+    d.solve_linear(load, force, group_values);
   else
-    impl_->solve_nonlinear(load, force);
+    d.solve_nonlinear(load, force, group_values);
+  d.group_values = group_values;
+  d.measure_reactions(load, force);
+}
+
+const std::vector<Eigen::Vector3d>& DistributedElasticity::reactions() const { return impl_->reactions; }
+
+void DistributedElasticity::set_probes(const Points& points, const std::vector<int>& tets) {
+  Impl& d = *impl_;
+  if (static_cast<size_t>(points.rows()) != tets.size())
+    throw std::invalid_argument("distributed FEM: " + std::to_string(points.rows()) + " probes and " +
+                                std::to_string(tets.size()) + " tets");
+  std::unordered_map<int, Impl::Cell> owned_cell;
+  for (const auto& cell : d.dof_handler.active_cell_iterators())
+    if (cell->is_locally_owned()) owned_cell.emplace(d.cell_tet[cell->active_cell_index()], cell);
+  const unsigned n = d.fe.n_dofs_per_cell();
+  d.probes.clear();
+  for (Eigen::Index p = 0; p < points.rows(); ++p) {
+    const int tet = tets[static_cast<size_t>(p)];
+    if (tet < 0 || tet >= d.n_tets)
+      throw std::invalid_argument("distributed FEM: probe " + std::to_string(p) + " names tet " + std::to_string(tet) +
+                                  ", outside the mesh's " + std::to_string(d.n_tets) + " tets");
+    const auto it = owned_cell.find(tet);
+    if (it == owned_cell.end()) continue;  // another rank's
+    const Point<3> xi =
+        d.mapping.transform_real_to_unit_cell(it->second, Point<3>(points(p, 0), points(p, 1), points(p, 2)));
+    Impl::OwnedProbe probe{p, it->second, std::vector<double>(n)};
+    for (unsigned i = 0; i < n; ++i) probe.shape[i] = d.fe.shape_value(i, xi);
+    d.probes.push_back(std::move(probe));
+  }
+  d.probe_count = points.rows();
+}
+
+Points DistributedElasticity::probe_displacements() const {
+  const Impl& d = *impl_;
+  Points out = Points::Zero(d.probe_count, 3);
+  const Impl::Vector u_ghosted = d.ghosted(d.u);
+  dealii::Vector<double> u_cell(d.fe.n_dofs_per_cell());
+  for (const Impl::OwnedProbe& p : d.probes) {
+    p.cell->get_dof_values(u_ghosted, u_cell);
+    for (unsigned i = 0; i < u_cell.size(); ++i) out(p.row, d.component[i]) += p.shape[i] * u_cell[i];
+  }
+  // Each probe is in one rank's cell: the sum is its value.
+  MPI_Allreduce(MPI_IN_PLACE, out.data(), static_cast<int>(out.size()), MPI_DOUBLE, MPI_SUM, d.comm);
+  return out;
 }
 
 Points DistributedElasticity::node_displacements(const std::vector<int>& nodes) const {

@@ -1,6 +1,6 @@
 // The deal.II state of DistributedElasticity, shared by its two translation units
-// (distributed_elasticity.cc: mesh, dofs, linear solve; neo_hookean_solve.cc: the
-// Newton solve). Include only from those.
+// (distributed_elasticity.cc: mesh, dofs, linear solve, reactions, probes;
+// nonlinear_solve.cc: the Newton solve). Include only from those.
 #pragma once
 
 #include <deal.II/base/index_set.h>
@@ -17,6 +17,7 @@
 
 #include <array>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include "distributed_elasticity.h"
@@ -35,7 +36,7 @@ struct DistributedElasticity::Impl {
   DistributedSettings settings;
   LameParameters lame;
   const MaterialLawInfo* law;  ///< settings.law, from the table
-  const TetMesh* mesh = nullptr;  ///< the caller's; used in the constructor only
+  Eigen::Index n_tets = 0;     ///< of the caller's TetMesh
   dealii::parallel::fullydistributed::Triangulation<3> tria;
   dealii::FESystem<3> fe;
   dealii::MappingFE<3> mapping;
@@ -43,12 +44,38 @@ struct DistributedElasticity::Impl {
   dealii::DoFHandler<3> dof_handler;
   dealii::IndexSet owned, relevant;
   std::vector<unsigned> component;  ///< vector component of each cell shape function
-  /// Dirichlet values (prescribed or zero), and the same dofs held at zero
-  /// (Newton increments).
+  /// Dirichlet values (prescribed or zero; a group's dofs at zero, their values
+  /// set per solve), and the same dofs held at zero (Newton increments).
   dealii::AffineConstraints<double> constraints, zero_constraints;
+  std::vector<PrescribedGroup> groups;
+  /// A dof a group holds: which group, which component.
+  struct HeldDof {
+    dealii::types::global_dof_index dof;
+    int group;
+    unsigned component;
+  };
+  std::vector<HeldDof> held_relevant;  ///< the groups' dofs among the locally relevant ones
+  std::vector<HeldDof> held_owned;     ///< the groups' dofs among the owned ones
+  std::unordered_map<dealii::types::global_dof_index, int> group_of_dof;  ///< relevant held dof -> group
+  /// Each group's values at the state u holds (the last converged solve's).
+  std::vector<Eigen::Vector3d> group_values;
+  /// Linear law: column 3 g + c is -K_fp restricted to group g's component-c dofs,
+  /// times one (the right-hand side a unit value of that component adds).
+  std::vector<dealii::TrilinosWrappers::MPI::Vector> group_lift;
+  std::vector<Cell> constrained_cells;     ///< owned cells with a constrained dof (reactions)
+  std::vector<Eigen::Vector3d> reactions;  ///< each group's, then the support's (N)
+  /// The probes in this rank's cells: the probe's row, its cell, the cell's shape
+  /// functions at its reference point.
+  struct OwnedProbe {
+    Eigen::Index row;
+    Cell cell;
+    std::vector<double> shape;
+  };
+  std::vector<OwnedProbe> probes;
+  Eigen::Index probe_count = 0;
   std::vector<Eigen::Vector3d> owned_support_points;  ///< by position in `owned`
   std::vector<unsigned> owned_components;             ///< by position in `owned`
-  std::vector<int> cell_tet;                          ///< by active cell index: the TetMesh tet (owned cells)
+  std::vector<int> cell_tet;                          ///< by active cell index: the TetMesh tet (owned and ghost cells)
   std::vector<std::array<int, 4>> cell_nodes;         ///< by active cell index: TetMesh node of each vertex
 
   dealii::TrilinosWrappers::SparseMatrix K;  ///< linear: stiffness; neo-Hookean: tangent
@@ -56,17 +83,30 @@ struct DistributedElasticity::Impl {
   dealii::TrilinosWrappers::PreconditionAMG amg;
   std::vector<double> rigid_modes;  ///< 6 columns of #owned: the near null space (must outlive amg)
   Vector u;                         ///< the solution, owned dofs
-  Vector f_previous;                ///< neo-Hookean: the last converged external force
+  Vector f_previous;                ///< nonlinear laws: the last converged external force
   DistributedStats stats;
 
   /// f += the load's consistent nodal forces (eq. 10 with the cell's shape functions).
   void add_load(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force, Vector& f) const;
+  /// The load's consistent nodal forces on `cell` (zero where none acts): the
+  /// per-cell part of add_load.
+  void cell_load(const Cell& cell, const std::vector<const LoadPoint*>& points, const Eigen::Vector3d& force,
+                 dealii::Vector<double>& fe_force) const;
+  /// u with its ghost entries (locally relevant dofs).
+  Vector ghosted(const Vector& owned_vector) const;
+  /// Sets every owned dof a group holds in x to its group's value in `values`
+  /// (zero when `values` is null); x compressed.
+  void set_held(Vector& x, const std::vector<Eigen::Vector3d>* values) const;
+  /// reactions from u, the load and the law (after a solve). Collective.
+  void measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);
   /// Builds the AMG hierarchy of K with the rigid-body modes as near null space.
   void build_amg();
   /// CG on K x = b from x; returns iterations. Throws std::runtime_error on failure.
   int cg(const Vector& b, Vector& x, double tolerance);
-  void solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);
-  void solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);  // nonlinear_solve.cc
+  void solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
+                    const std::vector<Eigen::Vector3d>& values);
+  void solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
+                       const std::vector<Eigen::Vector3d>& values);  // nonlinear_solve.cc
 };
 
 }  // namespace tb
