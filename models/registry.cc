@@ -8,6 +8,7 @@
 #include "embedded/embedded_model.h"
 #include "fem/fem_model.h"
 #include "fem_distributed/fem_distributed_model.h"
+#include "fem_dynamic/fem_dynamic_model.h"
 #include "hybrid/hybrid_model.h"
 #include "model.h"
 #include "pbd/pbd_model.h"
@@ -18,7 +19,7 @@ const std::vector<ModelInfo>& registered_models() {
   static const std::vector<ModelInfo> models = [] {
     std::vector<ModelInfo> list = {
         fem_model_info(),       pbd_model_info(),      hybrid_model_info(),
-        condensed_model_info(), embedded_model_info(), fem_distributed_model_info(),
+        condensed_model_info(), embedded_model_info(), fem_distributed_model_info(), fem_dynamic_model_info(),
     };
     validate_registry(list);
     return list;

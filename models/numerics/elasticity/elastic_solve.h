@@ -98,6 +98,11 @@ std::vector<ParameterSpec> elastic_solve_parameters(const std::string& prefix, c
 std::unique_ptr<ElasticSolve> make_elastic_solve(const ElasticBody& body, const Parameters& p,
                                                  const std::string& prefix, const ElasticSolveContext& context = {});
 
+/// The dynamic nonlinear solve: Newton on implicit Euler's equations with the lumped
+/// mass, a step of `time_step` seconds per solve() (newton_solve.cc; the fem_dynamic
+/// model). Each solve() continues from the state and velocity the last one left.
+std::unique_ptr<ElasticSolve> make_implicit_euler_solve(const ElasticBody& body, const std::string& law,
+                                                       double tolerance, double time_step);
 /// The direct solve alone (CHOLMOD factorisation once): for precomputations.
 std::unique_ptr<ElasticSolve> make_direct_solve(const ElasticBody& body);
 

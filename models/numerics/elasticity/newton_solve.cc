@@ -10,6 +10,12 @@
 // reference (models/fem_distributed), and the nonlinear coarse FEM of the
 // embedded and hybrid models (coarse_solver newton). Not a real-time strategy: a
 // frame allocates (CHOLMOD's factorisation).
+//
+// With a time step h it is the dynamic reference (models/fem_dynamic): implicit
+// (backward) Euler with the lumped mass M, each step the minimiser of the
+// incremental potential (Kane et al. 2000; Gast et al. 2015; docs/equations.md):
+//   M / h^2 (u - u_n - h v_n) + f_int(u) = f,   v_{n+1} = (u - u_n) / h,
+// solved by the same Newton iteration with M / h^2 added to the tangent's diagonal.
 #include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cmath>
@@ -32,6 +38,7 @@ class NewtonSolve : public ElasticSolve {
     int max_iterations = 50;   ///< per increment, before it is halved
     int load_steps = 1;        ///< increments per solve (halved on failure)
     int max_halvings = 12;
+    double time_step = 0;  ///< > 0: implicit Euler with this step, s (else static)
   };
 
   NewtonSolve(const ElasticBody& body, const Options& o)
@@ -64,6 +71,16 @@ class NewtonSolve : public ElasticSolve {
       for (Eigen::SparseMatrix<double>::InnerIterator it(K_free_, c); it; ++it)
         free_from_full_.push_back(value_index(free_to_full_dof[static_cast<size_t>(it.row())],
                                               free_to_full_dof[static_cast<size_t>(it.col())]));
+    if (o.time_step > 0) {
+      // Row-sum lumping of P1's consistent mass: a quarter of each tet's mass to each node.
+      inertia_ = Eigen::VectorXd::Zero(body.dofs());
+      for (Eigen::Index t = 0; t < m.T.rows(); ++t)
+        for (int a = 0; a < 4; ++a)
+          inertia_.segment<3>(3 * m.T(t, a)).array() +=
+              body.material().density * shapes_[static_cast<size_t>(t)].volume / 4 / (o.time_step * o.time_step);
+      for (int d = 0; d < body.dofs(); ++d) diagonal_.push_back(value_index(d, d));
+      velocity_ = Eigen::VectorXd::Zero(body.dofs());
+    }
     cholesky_.cholmod().print = 0;  // an indefinite tangent is handled (info()), not printed
     cholesky_.analyzePattern(K_free_);
     u_converged_ = Eigen::VectorXd::Zero(body.dofs());
@@ -102,6 +119,7 @@ class NewtonSolve : public ElasticSolve {
         }
       }
     }
+    if (o_.time_step > 0) velocity_ = (state - u_converged_) / o_.time_step;
     u = state;
     u_converged_ = state;
     assemble(state, false);
@@ -111,7 +129,7 @@ class NewtonSolve : public ElasticSolve {
 
   int last_iterations() const override { return iterations_; }
   nlohmann::json report() const override {
-    return {{"solve", "newton"},      {"material_law", law_.name},         {"newton_tolerance", o_.tolerance},
+    return {{"solve", o_.time_step > 0 ? "newton, implicit Euler" : "newton"}, {"material_law", law_.name},         {"newton_tolerance", o_.tolerance},
             {"load_increments_last_solve", increments_}, {"increment_halvings_last_solve", halvings_},
             {"newton_iterations_last_solve", iterations_}};
   }
@@ -128,10 +146,10 @@ class NewtonSolve : public ElasticSolve {
   /// `trial` are moved with them by one linearised step from the converged `state`:
   /// K_ff du_f = -(f_int_f(state) - f) - K_fp du_p, the first Newton step of the
   /// increment with the held values' increment as inhomogeneous constraints (the
-  /// predictor of deal.II's step-44, Pelteret and McBride 2012). Without it the held
-  /// nodes move alone and crush the layer of cells beside them, which halves the
-  /// increments until they are a fraction of a cell. Kept only if the law stays
-  /// defined there; Newton then starts from it.
+  /// predictor of deal.II's step-44, Pelteret and McBride 2012; docs/equations.md).
+  /// Without it the held nodes move alone and crush the layer of cells beside them,
+  /// which halves the increments until they are a fraction of a cell. Kept only if
+  /// the law stays defined there; Newton then starts from it.
   void predict_interior(const Eigen::VectorXd& state, const Eigen::VectorXd& f, Eigen::VectorXd& trial) {
     const Eigen::VectorXd du_p = trial - state;  // nonzero on prescribed dofs only
     if (du_p.lpNorm<Eigen::Infinity>() == 0) return;
@@ -174,6 +192,11 @@ class NewtonSolve : public ElasticSolve {
       const Eigen::Matrix<double, 12, 12> Ke = s.volume * (G.transpose() * (law_.tangent(F, lame_) * G));
       const int* at = &scatter_[static_cast<size_t>(t) * 144];
       for (int k = 0; k < 144; ++k) K_full_.valuePtr()[at[k]] += Ke.data()[k];
+    }
+    if (o_.time_step > 0) {  // the inertia of implicit Euler, around the last step's state
+      f_int_.array() += inertia_.array() * (u - u_converged_ - o_.time_step * velocity_).array();
+      if (tangent)
+        for (size_t d = 0; d < diagonal_.size(); ++d) K_full_.valuePtr()[diagonal_[d]] += inertia_(static_cast<Eigen::Index>(d));
     }
     return true;
   }
@@ -233,6 +256,9 @@ class NewtonSolve : public ElasticSolve {
   Eigen::SparseMatrix<double> K_full_, K_free_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky_;
   Eigen::VectorXd f_int_, f_int_solution_, u_converged_, f_converged_;
+  Eigen::VectorXd inertia_;    ///< implicit Euler: the lumped mass over h^2, per dof
+  Eigen::VectorXd velocity_;   ///< implicit Euler: v_n
+  std::vector<int> diagonal_;  ///< implicit Euler: each dof's diagonal entry in K_full_'s values
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
 };
 
@@ -264,6 +290,16 @@ ElasticSolveInfo newton_solve_info() {
             o.load_steps = p.integer(prefix + "newton_load_steps");
             return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
           }};
+}
+
+std::unique_ptr<ElasticSolve> make_implicit_euler_solve(const ElasticBody& body, const std::string& law,
+                                                       double tolerance, double time_step) {
+  if (!(time_step > 0)) throw std::invalid_argument("implicit Euler: time_step must be positive");
+  NewtonSolve::Options o;
+  o.law = law;
+  o.tolerance = tolerance;
+  o.time_step = time_step;
+  return std::make_unique<NewtonSolve>(body, o);
 }
 
 }  // namespace tb

@@ -1,0 +1,29 @@
+// The FEM on the scenario's fine tet volume (paper 1.3), with the solve strategy its
+// model chooses: the fem model (linear, corotational or Newton static solves, one
+// per frame) and the fem_dynamic model (implicit Euler). Tools hold the
+// fine-volume nodes of the surface vertices they hold as Dirichlet values; loads
+// are consistent nodal forces (eq. 10); reactions and probes from the nodal field.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "model.h"
+
+namespace tb {
+
+/// The solve a fine-volume FEM model uses on its body (which outlives it).
+using FineFemSolve = std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Problem&)>;
+
+/// A model solving the fine volume with `make_solve`'s strategy each frame; its
+/// errors begin with `model_name`.
+std::unique_ptr<Model> make_fine_fem(const std::string& model_name, FineFemSolve make_solve);
+
+/// What the fine-volume FEM takes and measures (ModelInfo's loads, tools,
+/// tools_how, reactions, probes), for the models built on it.
+void describe_fine_fem(ModelInfo& info);
+
+}  // namespace tb
