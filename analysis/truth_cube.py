@@ -155,6 +155,52 @@ def implied_top_displacement(rest, measured, grid):
     return w[7] + (w[7] - w[6]) * (80.0 - z[7]) / (z[7] - z[6])
 
 
+def support_force_n(folder):
+    """|force| on the support at the last frame (N), from the case's reactions.csv."""
+    path = os.path.join(folder, "reactions.csv")
+    if not os.path.isfile(path):
+        raise ResultsError(f"{path}: missing (the runner writes it for every model that measures reactions)")
+    with open(path) as f:
+        rows = [line.rstrip("\n").split(",") for line in f][1:]
+    final = max(int(x[0]) for x in rows)
+    last = [r for r in rows if r[1] == "support" and int(r[0]) == final]
+    if not last:
+        raise ResultsError(f"{path}: no support row")
+    return float(np.linalg.norm([float(v) for v in last[0][3:6]]))
+
+
+def reference_levels(e, positions, strains, grid, scored):
+    """The reference's own discretisation error at 18.25 % bonded: how far each case's
+    beads move between the coarse level (role truth_cube_18_25_bonded_coarse, 8
+    divisions a side) and the table's level (16), as a paragraph ("" without it)."""
+    role = "truth_cube_18_25_bonded_coarse"
+    names = e.roles.get(role, [])
+    if len(names) != 1 or names[0] not in e.scenarios:
+        return ""
+    parts = []
+    for name, case in e.by_role(role).items():
+        if case["run"]["model"] not in ("fem", "fem_distributed"):
+            continue  # a coarse-mesh model's coarse mesh is chosen anew, not refined
+        fine = scored.get((0.1825, "bonded", name))
+        coarse = case_beads(case, positions, strains)
+        if fine is None or coarse is None:
+            continue
+        change = np.linalg.norm(fine[1][2] - coarse[2], axis=1)
+        forces = [support_force_n(c["folder"]) for c in (case, e.by_role("truth_cube_18_25_bonded")[name])]
+        parts.append(f"{name} {np.sqrt(np.mean(change ** 2)):.2f} mm (its score {fine[0]['rms']:.2f} mm, "
+                     f"{errors(coarse[0], coarse[1], coarse[2], grid)['rms']:.2f} on the coarse mesh; the plate's "
+                     f"force {forces[0]:.1f} N coarse, {forces[1]:.1f} N on this table's mesh)")
+    if not parts:
+        return ""
+    return f"""
+The reference's own error (18.25 %, bonded): between the coarse mesh (8 divisions a side,
+tets at most 8 times larger) and this table's (16), the beads move by (RMS) {"; ".join(parts)}.
+If a case's error falls at least linearly with the mesh size, its error on this table's
+mesh is at most its change between the levels (Richardson: change / (2^p - 1), p >= 1);
+P2's asymptotic order (p = 3 for displacements) would make it a seventh of it.
+"""
+
+
 def make(results, out, data_flag):
     e = results_index.Experiment(results)
     table_path = os.path.join(data_dir(data_flag), "data", "truthcube", "uniaxial_positions.csv")
@@ -190,7 +236,7 @@ def make(results, out, data_flag):
     if not scored:
         raise ResultsError(f"{results}: no case wrote probes.csv")
 
-    any_case = next(iter(next(iter(e.scenarios.values())).values()))
+    level_text = reference_levels(e, positions, strains, grid, scored)
     rest_all = to_model_mm(positions[:, 0, :], frame)
     implied = []
     for s in range(1, len(strains)):
@@ -220,7 +266,7 @@ the noise of a measured displacement and the floor a model exact to the physics 
 still score. The top displacement
 the beads imply (the two layers nearest the plate extrapolated to the top face):
 {implied_text}.
-
+{level_text}
 {machine_note(e.scenarios[next(iter(e.scenarios))])}
 """
     write_table(os.path.join(out, "tables"), "truth_cube",
