@@ -175,22 +175,48 @@ def wait_for(predicate, timeout, what):
     return False
 
 
-def wait_for_group(pgid, timeout):
-    """Waits until no process of the group is left; kills what is left after timeout.
-    Returns False when some had to be killed."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        try:
-            os.killpg(pgid, 0)
-        except ProcessLookupError:
-            return True
-        time.sleep(0.05)
+def descendants(pid):
+    """The pids of pid's children, grandchildren ... (from /proc). OpenMPI starts each
+    rank in a process group of its own: a group signal would miss them."""
+    parent = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    stat = f.read()
+                parent[int(entry)] = int(stat.rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass
+    out, frontier = [], [pid]
+    while frontier:
+        p = frontier.pop()
+        children = [c for c, pp in parent.items() if pp == p]
+        out += children
+        frontier += children
+    return out
+
+
+def alive(pid):
+    """pid runs (a zombie does not: it has ended, its parent has not reaped it)."""
     try:
-        os.killpg(pgid, signal.SIGKILL)
-    except ProcessLookupError:
-        return True
-    time.sleep(0.5)
-    return False
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def wait_for_processes(pids, timeout):
+    """Waits until none of pids runs; kills what is left after timeout and returns it."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end and any(alive(p) for p in pids):
+        time.sleep(0.05)
+    left = [p for p in pids if alive(p)]
+    for p in left:
+        try:
+            os.kill(p, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    return left
 
 
 def run_to_completion(cmd, log, timeout=600):
@@ -237,7 +263,8 @@ def plant_leftovers(exp_dir):
 def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_delay):
     """Starts cmd, signals it once a case folder exists (+ extra_delay), checks, reruns."""
     exp_dir = os.path.join(out, exp_name)
-    log = os.path.join(out, f"{label}.log")
+    os.makedirs(out, exist_ok=True)
+    log = os.path.join(out, re.sub(r"\W+", "-", label) + ".log")
     with open(log, "w") as err:
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
     started = time.monotonic()
@@ -251,6 +278,7 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
         return
     time.sleep(extra_delay)
     written_before = len(case_folders(exp_dir))
+    children = descendants(p.pid)
     p.send_signal(sig)
     try:
         p.wait(timeout=120)
@@ -258,9 +286,11 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
         fail(f"{label}: still running 120 s after the signal")
         os.killpg(p.pid, signal.SIGKILL)
         p.wait()
-    # Under mpirun the ranks are mpirun's children: wait for them to be gone too.
-    if not wait_for_group(p.pid, 60):
-        fail(f"{label}: processes of the run were still alive 60 s after mpirun ended")
+    # Under mpirun the ranks are mpirun's children: they must end too, not go on
+    # writing (or wait in MPI_Finalize) once mpirun is gone.
+    left = wait_for_processes(children, 60)
+    if left:
+        fail(f"{label}: {len(left)} process(es) of the run still running 60 s after the signal")
     state = snapshot(exp_dir)
     cases = case_folders(exp_dir)
     print(f"{label}: signalled after {time.monotonic() - started:.1f} s with {written_before} case folder(s); "
@@ -288,9 +318,10 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
 def mesh_command(label, out, sig, delay):
     """`tissuebench mesh --out DIR` over a previous mesh folder, signalled after delay
     s: DIR is the previous folder or the new one, whole; a rerun replaces it."""
-    target = os.path.join(out, f"{label}-mesh")
+    label_file = re.sub(r"\W+", "-", label)
+    target = os.path.join(out, f"{label_file}-mesh")
     cmd = [CLI, "mesh", "--cube", "--refine-levels", "1", "--out", target]
-    if not run_to_completion(cmd, os.path.join(out, f"{label}-first.log")):
+    if not run_to_completion(cmd, os.path.join(out, f"{label_file}-first.log")):
         return
     whole = folder_summary(target)
     with open(os.devnull, "w") as null:
@@ -305,7 +336,7 @@ def mesh_command(label, out, sig, delay):
         fail(f"{label}: the mesh folder after the signal is not a whole mesh folder: {after}")
     pid = dead_pid()
     os.makedirs(f"{target}.tmp{pid}")
-    if run_to_completion(cmd, os.path.join(out, f"{label}-rerun.log")):
+    if run_to_completion(cmd, os.path.join(out, f"{label_file}-rerun.log")):
         if folder_summary(target) != whole:
             fail(f"{label}: the rerun's mesh folder differs: {folder_summary(target)}")
         if os.path.exists(f"{target}.tmp{pid}"):
