@@ -2,15 +2,10 @@
 // line naming the file and the problem and exits non-zero. Under `mpirun -np N`
 // every rank runs every case (the distributed FEM together, other models
 // redundantly) and rank 0 alone prints and writes.
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <iostream>
-#include <thread>
 
 #include "blas_kernels.h"
 #include "build_info.h"
@@ -49,28 +44,12 @@ int command_models() {
   return 0;
 }
 
-/// Under mpirun, a rank whose launcher is gone stops. OpenMPI starts each rank in a
-/// process group of its own, so `kill -9` of mpirun reaches no rank, and the ranks
-/// would go on (rank 0 writing results) until MPI_Finalize, where they can wait for
-/// ever. The launcher's death shows as a new parent (the orphan is adopted), polled
-/// here; the rank then ends as SIGTERM would end it, and its staging folder is left
-/// for the next run to remove (docs/robustness.md, "Interrupted runs").
-void stop_when_orphaned() {
-  const pid_t launcher = ::getppid();
-  std::thread([launcher] {
-    while (::getppid() == launcher) std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    std::signal(SIGTERM, SIG_DFL);
-    std::raise(SIGTERM);
-  }).detach();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   tb::pin_blas_kernels(argv);      // the same FEM bits on every AVX2 CPU (blas_kernels.h)
   tb::MpiSession mpi(argc, argv);  // once per program; a singleton without mpirun
   const bool root = tb::MpiSession::rank() == 0;
-  if (tb::MpiSession::size() > 1) stop_when_orphaned();
   CLI::App app{"tissuebench: soft-tissue deformation models (fine FEM, PBD, hybrid) on shared scenarios"};
   app.require_subcommand(1);
 

@@ -19,6 +19,7 @@ mesh`. Before each rerun, staging folders of a process that no longer exists, ru
 and all, are planted beside the results: the rerun must remove them.
 
 Usage: interrupted_runs_test.py MPIEXEC TISSUEBENCH SOURCE_DIR
+(TB_INTERRUPTED_ONLY=REGEX: only the checks whose label matches, e.g. "mpirun.*SIGKILL")
 """
 import json
 import os
@@ -260,8 +261,15 @@ def plant_leftovers(exp_dir):
     return planted
 
 
+def selected(label):
+    """TB_INTERRUPTED_ONLY=REGEX runs only the matching checks (e.g. "mpirun.*SIGKILL")."""
+    return re.search(os.environ.get("TB_INTERRUPTED_ONLY", ""), label) is not None
+
+
 def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_delay):
     """Starts cmd, signals it once a case folder exists (+ extra_delay), checks, reruns."""
+    if not selected(label):
+        return
     exp_dir = os.path.join(out, exp_name)
     os.makedirs(out, exist_ok=True)
     log = os.path.join(out, re.sub(r"\W+", "-", label) + ".log")
@@ -318,6 +326,8 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
 def mesh_command(label, out, sig, delay):
     """`tissuebench mesh --out DIR` over a previous mesh folder, signalled after delay
     s: DIR is the previous folder or the new one, whole; a rerun replaces it."""
+    if not selected(label):
+        return
     label_file = re.sub(r"\W+", "-", label)
     target = os.path.join(out, f"{label_file}-mesh")
     cmd = [CLI, "mesh", "--cube", "--refine-levels", "1", "--out", target]
