@@ -27,9 +27,11 @@ struct Stats {
   std::string slowest_outcome;
 };
 
+// Never destroyed: write_report runs at exit, after function-local statics that were
+// constructed after its registration are gone.
 Stats& stats() {
-  static Stats s;
-  return s;
+  static Stats* s = new Stats;
+  return *s;
 }
 
 std::string json_string(const std::string& s) {
