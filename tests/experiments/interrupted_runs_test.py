@@ -128,10 +128,12 @@ def file_summary(path):
         return "json"
     if path.endswith(".vtu") or path.endswith(".pvd"):
         ET.fromstring(data)
-        return "xml"
+        return f"xml, {len(data)} bytes" if path.endswith(".vtu") and "series" not in path else "xml"
     if path.endswith(".csv"):
         lines = data.count(b"\n")
         return f"csv {lines} lines" if data.endswith(b"\n") else "csv without its last newline"
+    if path.endswith(".obj"):
+        return f"obj {data.count(b'v ')} vertex lines"
     return f"{len(data) > 0}"
 
 
@@ -324,33 +326,55 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
 
 
 def mesh_command(label, out, sig, delay):
-    """`tissuebench mesh --out DIR` over a previous mesh folder, signalled after delay
-    s: DIR is the previous folder or the new one, whole; a rerun replaces it."""
+    """`tissuebench mesh --out DIR` over a previous, coarser mesh folder, signalled
+    twice: after delay s (while it meshes), and once it writes (its staging folder
+    DIR.tmp<pid> exists, or a file of DIR is newer than the start). DIR must be the
+    previous folder or the new one, whole, never a mix; a rerun writes the new one and
+    removes a dead process's staging folder."""
     if not selected(label):
         return
     label_file = re.sub(r"\W+", "-", label)
     target = os.path.join(out, f"{label_file}-mesh")
+    reference = os.path.join(out, f"{label_file}-reference")
     cmd = [CLI, "mesh", "--cube", "--refine-levels", "1", "--out", target]
-    if not run_to_completion(cmd, os.path.join(out, f"{label_file}-first.log")):
+    if not (run_to_completion(cmd[:-1] + [reference], os.path.join(out, f"{label_file}-reference.log"))
+            and run_to_completion([CLI, "mesh", "--cube", "--out", target], os.path.join(out, f"{label_file}-first.log"))):
         return
-    whole = folder_summary(target)
-    with open(os.devnull, "w") as null:
-        p = subprocess.Popen(cmd, stdout=null, stderr=null, start_new_session=True)
-    time.sleep(delay)
-    p.send_signal(sig)
-    p.wait(timeout=120)
-    if p.returncode == 0:
-        print(f"{label}: the mesh command finished before the signal ({delay} s)")
-    after = folder_summary(target) if os.path.isdir(target) else None
-    if after != whole:
-        fail(f"{label}: the mesh folder after the signal is not a whole mesh folder: {after}")
+    new, old = folder_summary(reference), folder_summary(target)
+    if new == old:
+        fail(f"{label}: the two meshes are alike: a mix of them could not be seen")
+    parent = os.path.dirname(target)
+    staging = re.compile(re.escape(os.path.basename(target)) + r"\.tmp\d+$")
+
+    def writing(since):
+        if any(staging.match(n) for n in os.listdir(parent)):
+            return True
+        return any(os.stat(os.path.join(target, n)).st_mtime_ns > since for n in os.listdir(target))
+
+    for when in (f"{delay:.2f} s in", "once it writes"):
+        since = time.time_ns()
+        with open(os.devnull, "w") as null:
+            p = subprocess.Popen(cmd, stdout=null, stderr=null, start_new_session=True)
+        if when == "once it writes":
+            wait_for(lambda: p.poll() is not None or writing(since), 300, f"{label}: the mesh command's writes")
+        else:
+            time.sleep(delay)
+        p.send_signal(sig)
+        p.wait(timeout=120)
+        print(f"{label}, signalled {when}: exit status {p.returncode}", flush=True)
+        after = folder_summary(target) if os.path.isdir(target) else None
+        if after not in (old, new):
+            fail(f"{label}, signalled {when}: the mesh folder is neither the previous one nor the new one: {after}")
+        if after == new:  # the next interruption again over the previous mesh
+            run_to_completion([CLI, "mesh", "--cube", "--out", target], os.path.join(out, f"{label_file}-first.log"))
     pid = dead_pid()
     os.makedirs(f"{target}.tmp{pid}")
     if run_to_completion(cmd, os.path.join(out, f"{label_file}-rerun.log")):
-        if folder_summary(target) != whole:
+        if folder_summary(target) != new:
             fail(f"{label}: the rerun's mesh folder differs: {folder_summary(target)}")
-        if os.path.exists(f"{target}.tmp{pid}"):
-            fail(f"{label}: {target}.tmp{pid} left after the rerun")
+        left = [n for n in os.listdir(parent) if staging.match(n)]
+        if left:
+            fail(f"{label}: left after the rerun: {left}")
 
 
 def main():
