@@ -22,8 +22,10 @@ class RobustnessTable(unittest.TestCase):
             mutator = {"obj": {"inputs": 5004, "findings": 0, "distinct_messages": 2, "slowest_ms": 12.34,
                                "messages": {"a.obj: line # bad": 3, "a.obj: empty": 1}}}
             write(os.path.join(work, "reports", "mutator_obj.json"), json.dumps(mutator))
-            libfuzzer = {"inputs": 99, "distinct_messages": 2, "slowest_ms": 1500.0,
-                         "messages": {"a.obj: empty": 7, "a.obj: face # out of range": 2}}
+            libfuzzer = {"inputs": 99, "distinct_messages": 4, "slowest_ms": 1500.0,
+                         "messages": {"a.obj: empty": 7, "a.obj: face # out of range": 2,
+                                      "a.obj: line #: expected a number, found '...'x'...'": 1,
+                                      "a.obj: line #: expected a number, found '...'": 1}}
             write(os.path.join(work, "reports", "libfuzzer_obj.json"), json.dumps(libfuzzer))
             write(os.path.join(work, "libfuzzer", "obj", "log.txt"),
                   "Done 100 runs in 60 second(s)\nstat::number_of_executed_units: 100\nstat::peak_rss_mb: 80\n")
@@ -34,12 +36,13 @@ class RobustnessTable(unittest.TestCase):
             obj, gmsh = rows
             self.assertEqual(obj["mutator_inputs"], 5004)
             self.assertEqual(obj["libfuzzer_inputs"], 100)  # libFuzzer's count of executed units
-            self.assertEqual(obj["messages_union"], 3)
+            self.assertEqual(obj["messages_union"], 5)
+            self.assertEqual(obj["messages_before_quote"], 4)  # the two 'expected a number' are one
             self.assertEqual((obj["crashes"], obj["hangs"], obj["slow_units"]), (0, 1, 1))
             self.assertIsNone(gmsh["mutator_inputs"])  # no report: said so, not zero
             with open(out) as f:
                 text = f.read()
-            self.assertIn("| obj | Wavefront OBJ | 5004 | 100 | 0 | 1 | 0 | 2 / 2 / 3 | 12.3 / 1500.0 | 1 |", text)
+            self.assertIn("| obj | Wavefront OBJ | 5004 | 100 | 0 | 1 | 0 | 2 / 4 / 5 | 4 | 12.3 / 1500.0 | 1 |", text)
             self.assertIn("| gmsh | Gmsh .msh v1 and v2 | (no report) | (no report) |", text)
 
 
