@@ -92,6 +92,29 @@ def distributed_experiment(folder):
     return path
 
 
+def study_experiment(folder):
+    """A small reference-convergence study (scripts/reference_convergence's input):
+    two point-pull scenarios x two distributed-FEM cases."""
+    paths = []
+    for level, nx in ((0, 4), (1, 5)):
+        scenario = {
+            "name": f"study-{level}",
+            "mesh": {"type": "cube", "nx": nx, "ny": nx, "nz": nx, "fine_tetgen": {"max_volume": 1e-06},
+                     "coarse_selection": {"target_nodes": 30}},
+            "support": {"min": [-1, -1, -1e-09], "max": [1, 1, 1e-09]},
+            "load": {"point": [0, 0, 0.1], "force": [0, 0, 1.0]},
+            "frames": {"max": 20, "static": 4},
+            "models": [{"name": "fem-p1", "model": "fem_distributed", "parameters": {"cg_tolerance": 1e-10}},
+                       {"name": "fem-p2", "model": "fem_distributed",
+                        "parameters": {"degree": 2, "cg_tolerance": 1e-10}}],
+        }
+        write_json(os.path.join(folder, f"study-{level}.json"), scenario)
+        paths.append(f"study-{level}.json")
+    path = os.path.join(folder, "study.json")
+    write_json(path, {"name": "interrupted-study", "scenarios": paths})
+    return path
+
+
 def write_json(path, j):
     with open(path, "w") as f:
         json.dump(j, f, indent=1)
@@ -222,9 +245,10 @@ def wait_for_processes(pids, timeout):
     return left
 
 
-def run_to_completion(cmd, log, timeout=600):
+def run_to_completion(cmd, log, timeout=600, env=None):
     with open(log, "w") as err:
-        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=err, timeout=timeout, start_new_session=True)
+        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=err, timeout=timeout, start_new_session=True,
+                           env=env)
     if r.returncode != 0:
         with open(log) as f:
             fail(f"{' '.join(cmd)}: exit status {r.returncode}: {f.read()[-2000:]}")
@@ -268,15 +292,17 @@ def selected(label):
     return re.search(os.environ.get("TB_INTERRUPTED_ONLY", ""), label) is not None
 
 
-def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_delay):
-    """Starts cmd, signals it once a case folder exists (+ extra_delay), checks, reruns."""
+def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_delay, env=None, group=False,
+                        exp_dir=None):
+    """Starts cmd, signals it once a case folder exists (+ extra_delay), checks, reruns.
+    group: the signal goes to cmd's process group, as a terminal's Ctrl-C does."""
     if not selected(label):
         return
-    exp_dir = os.path.join(out, exp_name)
+    exp_dir = exp_dir or os.path.join(out, exp_name)
     os.makedirs(out, exist_ok=True)
     log = os.path.join(out, re.sub(r"\W+", "-", label) + ".log")
     with open(log, "w") as err:
-        p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
+        p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True, env=env)
     started = time.monotonic()
     ok = wait_for(lambda: case_folders(exp_dir) or p.poll() is not None, 300, f"{label}: a first case folder")
     if p.poll() is not None:
@@ -289,7 +315,10 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
     time.sleep(extra_delay)
     written_before = len(case_folders(exp_dir))
     children = descendants(p.pid)
-    p.send_signal(sig)
+    if group:
+        os.killpg(p.pid, sig)
+    else:
+        p.send_signal(sig)
     try:
         p.wait(timeout=120)
     except subprocess.TimeoutExpired:
@@ -297,7 +326,8 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
         os.killpg(p.pid, signal.SIGKILL)
         p.wait()
     # Under mpirun the ranks are mpirun's children: they must end too, not go on
-    # writing (or wait in MPI_Finalize) once mpirun is gone.
+    # writing (or wait in MPI_Finalize) once mpirun is gone. (A study script's
+    # mpirun, its shell killed, finishes its one case: bounded too.)
     left = wait_for_processes(children, 60)
     if left:
         fail(f"{label}: {len(left)} process(es) of the run still running 60 s after the signal")
@@ -308,7 +338,7 @@ def interrupt_and_rerun(label, cmd, out, exp_name, expected_cases, sig, extra_de
     if len(cases) >= len(expected_cases):
         fail(f"{label}: every case was written: the signal did not land mid-run")
     planted = plant_leftovers(exp_dir)
-    if not run_to_completion(cmd, log + ".rerun"):
+    if not run_to_completion(cmd, log + ".rerun", env=env):
         return
     finished = snapshot(exp_dir)
     check_complete(label, state, finished)
@@ -391,6 +421,8 @@ def main():
         subprocess.run(index_cmd, check=True, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
         with open(os.path.join(tmp, "index", "interrupted-mpi", "experiment.json")) as f:
             dist_cases = [f"{s['name']}/{c}" for s in json.load(f)["scenarios"] for c in s["cases"]]
+        study = study_experiment(tmp)
+        study_cases = [f"study-{level}/fem-p{d}" for level in (0, 1) for d in (1, 2)]
         for k, (name, sig) in enumerate(SIGNALS):
             delay = [0.0, 0.15, 0.4][k]  # a few moments into the next case
             out = os.path.join(tmp, f"sweep-{name}")
@@ -401,6 +433,16 @@ def main():
                                 [MPIEXEC, "-n", "2", CLI, "run", dist, "--out", out, "--quiet", "--no-mesh-cache"],
                                 out, "interrupted-mpi", dist_cases, sig, delay)
             mesh_command(f"mesh {name}", tmp, sig, 0.3 + delay)
+            # The reference-convergence script: one mpirun per case, a case skipped
+            # when its folder is there. Ctrl-C reaches the whole process group; a
+            # kill, the shell alone (its mpirun then finishes the case it runs).
+            out = os.path.join(tmp, f"study-{name}")
+            env = dict(os.environ, TISSUEBENCH=CLI, EXPERIMENT=study, OUT=out, NO_ANALYSIS="1", RANKS="2",
+                       TISSUEBENCH_MESH_CACHE=os.path.join(tmp, f"study-cache-{name}"))
+            interrupt_and_rerun(f"reference_convergence {name}",
+                                ["bash", os.path.join(SRC, "scripts", "reference_convergence")], out,
+                                "interrupted-study", study_cases, sig, delay, env=env, group=sig == signal.SIGINT,
+                                exp_dir=os.path.join(out, "np2", "interrupted-study"))
     print(f"interrupted_runs: {len(FAILURES)} failure(s), {time.monotonic() - start:.0f} s")
     return 1 if FAILURES else 0
 
