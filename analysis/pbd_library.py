@@ -17,6 +17,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+import results_index  # noqa: E402
 import table_io as tables  # noqa: E402
 
 
@@ -30,8 +31,8 @@ def tissuebench_cases(size_dir):
     cases = {}
     for name in sorted(os.listdir(size_dir)):
         run_path = os.path.join(size_dir, name, "run.json")
-        if not os.path.isfile(run_path):
-            continue
+        if not results_index.is_case_folder(os.path.join(size_dir, name)):
+            continue  # not a case, or a killed run's staging folder
         run = load_json(run_path)
         if run["model"] != "pbd":
             continue

@@ -11,6 +11,7 @@ finds the scenarios it needs by role (experiments/paper.json gives "cube_pull",
 """
 import json
 import os
+import re
 import sys
 
 import metrics
@@ -29,6 +30,17 @@ def main(make, name):
     except ResultsError as e:
         print(f"{name}: {e}", file=sys.stderr)
         sys.exit(2)
+
+
+# The runner stages a case folder as <case>.tmp<pid> and swaps an old one out as
+# <case>.old<pid> (meshing/staged_folder.h); a run killed at the wrong moment leaves
+# one behind, holding run.json. Neither is a result (docs/robustness.md).
+STAGING_NAME = re.compile(r"\.(tmp|old)\d+$")
+
+
+def is_case_folder(folder):
+    """A case's results: a folder holding run.json (written last), not a staging folder."""
+    return not STAGING_NAME.search(os.path.basename(folder)) and os.path.isfile(os.path.join(folder, "run.json"))
 
 
 def load_case(folder):
@@ -71,7 +83,7 @@ class Experiment:
             sdir = os.path.join(root, scenario)
             if not os.path.isdir(sdir):
                 continue
-            found = {c for c in os.listdir(sdir) if os.path.isfile(os.path.join(sdir, c, "run.json"))}
+            found = {c for c in os.listdir(sdir) if is_case_folder(os.path.join(sdir, c))}
             if not found:
                 continue
             listed = [c for c in order.get(scenario, []) if c in found]

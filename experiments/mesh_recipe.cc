@@ -17,6 +17,7 @@
 #include "mesh_io.h"
 #include "mirror_symmetric_volume.h"
 #include "self_intersections.h"
+#include "staged_folder.h"
 #include "strict_json.h"
 #include "surface_subdivision.h"
 #include "tetgen_driver.h"
@@ -251,9 +252,15 @@ nlohmann::json MeshReport::to_json(const HybridMesh& h) const {
   return j;
 }
 
-void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshReport& report) {
-  fs::create_directories(dir);
-  const fs::path d(dir);
+namespace {
+
+/// The files of a mesh folder, summary.json last.
+const char* const kMeshFolderFiles[] = {"fine_surface.vtu", "fine_surface.obj",    "fine_volume.vtu",
+                                        "coarse_volume.vtu", "control_points.vtu", "control_points.csv",
+                                        "summary.json"};
+
+void write_mesh_files(const fs::path& d, const HybridMesh& h, const MeshReport& report) {
+  fs::create_directories(d);
   write_surface_vtu((d / "fine_surface.vtu").string(), h.fine_surface);
   write_obj((d / "fine_surface.obj").string(), h.fine_surface);
   if (h.fine_volume.T.rows()) write_volume_vtu((d / "fine_volume.vtu").string(), h.fine_volume);
@@ -272,6 +279,41 @@ void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshRe
   write_points_vtu((d / "control_points.vtu").string(), cp, {{"surface_vertex", ids}});
   write_file_atomically((d / "control_points.csv").string(), csv.str());
   write_file_atomically((d / "summary.json").string(), report.to_json(h).dump(2) + "\n");
+}
+
+}  // namespace
+
+void write_mesh_folder(const std::string& dir, const HybridMesh& h, const MeshReport& report) {
+  // Staged, then renamed into place (staged_folder.h): an interrupted run leaves the
+  // previous folder or the whole new one. A folder that holds files of its own
+  // (`tissuebench mesh --out` into a folder of the user's) is not replaced: the new
+  // files are moved into it one by one, each whole, summary.json last.
+  const fs::path d = fs::path(dir).lexically_normal();
+  const fs::path target = d.has_filename() ? d : d.parent_path();
+  remove_stale_staging(target);
+  const fs::path staging = staging_folder(target);
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  try {
+    write_mesh_files(staging, h, report);
+    bool own_files = false;
+    if (fs::is_directory(target))
+      for (const auto& entry : fs::directory_iterator(target)) {
+        const std::string name = entry.path().filename().string();
+        own_files |= std::find(std::begin(kMeshFolderFiles), std::end(kMeshFolderFiles), name) ==
+                     std::end(kMeshFolderFiles);
+      }
+    if (!own_files) {
+      replace_folder(staging, target);
+      return;
+    }
+    for (const char* name : kMeshFolderFiles)
+      if (fs::exists(staging / name)) fs::rename(staging / name, target / name);
+    fs::remove_all(staging);
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
 }
 
 }  // namespace tb
@@ -364,7 +406,8 @@ HybridMesh build_mesh_cached(const MeshRecipe& recipe, MeshReport& report, const
   std::error_code ec;
   try {
     fs::remove_all(staging, ec);
-    write_mesh_folder(staging.string(), h, report);
+    remove_stale_staging(entry);
+    write_mesh_files(staging, h, report);
     write_file_atomically((staging / "complete").string(), std::string(kCacheFormat) + "\n");
     fs::remove_all(entry, ec);
     fs::rename(staging, entry, ec);

@@ -75,7 +75,8 @@ MeshRecipe parse_mesh_recipe(const nlohmann::json& j, const std::string& base_di
 HybridMesh build_mesh(const MeshRecipe& recipe, MeshReport& report);
 
 /// Writes fine/coarse volumes, control points, the surface (VTU, OBJ) and
-/// summary.json into `dir`.
+/// summary.json into `dir`, staged and renamed into place (staged_folder.h): an
+/// interrupted write leaves the previous folder or the whole new one.
 void write_mesh_folder(const std::string& dir, const HybridMesh& mesh, const MeshReport& report);
 
 /// A hash (16 hex digits) of everything that determines the built mesh: the

@@ -9,11 +9,11 @@
 //     Dynamic models stop at the steady state: max per-vertex change in a frame
 //     <= steady_tolerance x max displacement. Static models run `static` frames,
 //     which are the timing samples of the per-frame solve.
-//  4. Output: written into a temporary folder, then renamed into place, so a
-//     killed or failed run leaves the previous result intact.
+//  4. Output: written into a temporary folder, run.json last, then renamed into
+//     place (staged_folder.h), so a killed or failed run leaves the previous result
+//     intact: a case folder is complete or absent (docs/robustness.md).
 #include "runner.h"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -34,6 +34,7 @@
 #include "mesh_checks.h"
 #include "mesh_io.h"
 #include "resource_limits.h"
+#include "staged_folder.h"
 
 namespace tb {
 namespace fs = std::filesystem;
@@ -114,32 +115,6 @@ std::string csv_of(const Points& rest, const Displacements& u, const std::vector
   return os.str();
 }
 
-/// Removes <dir>.tmp<pid> and <dir>.old<pid> folders left by runs that were killed
-/// (their process no longer exists).
-void remove_stale_staging(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir.parent_path(), ec)) return;
-  const std::string stem = dir.filename().string();
-  for (const auto& entry : fs::directory_iterator(dir.parent_path(), ec)) {
-    const std::string name = entry.path().filename().string();
-    for (const std::string tag : {".tmp", ".old"}) {
-      if (name.rfind(stem + tag, 0) != 0) continue;
-      const std::string pid = name.substr(stem.size() + tag.size());
-      if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-      if (::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0) fs::remove_all(entry.path(), ec);
-    }
-  }
-}
-
-/// Replaces `dir` by `staging` as atomically as the file system allows.
-void move_into_place(const fs::path& staging, const fs::path& dir) {
-  const fs::path old = dir.string() + ".old" + std::to_string(::getpid());
-  if (fs::exists(dir)) fs::rename(dir, old);
-  fs::rename(staging, dir);
-  std::error_code ec;
-  fs::remove_all(old, ec);
-}
-
 CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& mesh, const nlohmann::json& mesh_summary,
                      const std::string& experiment, const RunOptions& opt, Progress& progress) {
   CaseOutcome out;
@@ -158,7 +133,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   // Outputs are staged in a temporary folder and moved into place at the end (by
   // the writing process only: under mpirun, rank 0).
   const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
-  const fs::path staging = dir.string() + ".tmp" + std::to_string(::getpid());
+  const fs::path staging = staging_folder(dir);
   if (opt.write_outputs) {
     remove_stale_staging(dir);
     fs::remove_all(staging);
@@ -283,7 +258,6 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
                                            {"why_not", "model '" + info.name + "' has no volume to interpolate in"}};
   }
   j["build"] = build_and_machine_info();
-  write_file_atomically((staging / "run.json").string(), j.dump(2) + "\n");
 
   nlohmann::json t;
   t["setup_ms"] = setup_ms;
@@ -336,7 +310,10 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   SurfaceMesh deformed{rest + u, mesh.fine_surface.F};
   write_surface_vtu((staging / "surface.vtu").string(), deformed,
                     {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
-  move_into_place(staging, dir);
+  // run.json last: a folder holding it holds every file (what the analysis takes
+  // for a case, analysis/results_index.py), even before the rename.
+  write_file_atomically((staging / "run.json").string(), j.dump(2) + "\n");
+  replace_folder(staging, dir);
   out.ok = true;
   return out;
 }
@@ -457,8 +434,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
           // the failure is reported on stderr and in the exit status already
         }
         std::error_code ec;
-        fs::remove_all(fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".tmp" + std::to_string(::getpid())),
-                       ec);
+        fs::remove_all(staging_folder(fs::path(opt.out_dir) / e.name / s.name / run.case_name), ec);
       }
       outcomes.push_back(o);
     }

@@ -115,6 +115,21 @@ class TableScripts(unittest.TestCase):
             self.assertTrue(t2[3].startswith("fem-direct,3.00,6.00,108.2"), t2[3])
             self.assertIn("test cpu", read(os.path.join(out, "table2.md")))
 
+    def test_a_killed_runs_staging_folders_are_not_cases(self):
+        # A run killed between its last write and the rename leaves <case>.tmp<pid>
+        # (run.json and all); one killed during the swap, <case>.old<pid>
+        # (meshing/staged_folder.h). Neither is a case of the experiment.
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = os.path.join(tmp, "paper")
+            write_fixture(exp)
+            rest = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]], float)
+            write_case(exp, "cube-pull", "pbd.tmp4242", rest, rest, 1.0, "pbd")
+            write_case(exp, "cube-pull", "hybrid.old77", rest, rest, 1.0, "hybrid")
+            e = results_index.Experiment(exp)
+            self.assertEqual(list(e.scenarios["cube-pull"]), ["fem-direct", "fem-iterative", "pbd", "hybrid"])
+            self.assertTrue(results_index.is_case_folder(os.path.join(exp, "cube-pull", "pbd")))
+            self.assertFalse(results_index.is_case_folder(os.path.join(exp, "cube-pull", "pbd.tmp4242")))
+
     def test_no_reference_declared_is_a_clear_error(self):
         with tempfile.TemporaryDirectory() as tmp:
             exp = os.path.join(tmp, "paper")

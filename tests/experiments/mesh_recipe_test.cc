@@ -4,9 +4,12 @@
 #include "mesh_recipe.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 
@@ -162,4 +165,39 @@ TEST(ShapesExperiment, SupportAndLoadResolveOnTheGeneratedSurfaces) {
 }
 
 }  // namespace
+// write_mesh_folder stages and renames (docs/robustness.md, "Interrupted runs"): a
+// second write replaces the folder whole, a dead process's staging folder beside it
+// is removed, and a folder holding files of the user's keeps them.
+TEST(MeshRecipe, MeshFolderIsReplacedWholeAndAUsersFolderKeepsItsFiles) {
+  namespace fs = std::filesystem;
+  const testing::TempFolder dir("mesh-folder");
+  write_file_atomically(dir / "tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  MeshRecipe r = parse_mesh_recipe({{"type", "files"}, {"surface", dir / "tet.obj"}}, ".", "s.json");
+  r.build.target_coarse_nodes = 4;
+  MeshReport report;
+  const HybridMesh h = build_mesh(r, report);
+  const pid_t child = fork();  // a pid no process holds once reaped: a killed run's
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);
+  const fs::path mesh = fs::path(dir / "mesh");
+  fs::create_directories(mesh.string() + ".tmp" + std::to_string(child));
+  std::ofstream(mesh.string() + ".tmp" + std::to_string(child) + "/summary.json") << "{}";
+  write_mesh_folder(mesh.string(), h, report);
+  write_mesh_folder(mesh.string(), h, report);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir.path)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"mesh", "tet.obj"}));
+  EXPECT_TRUE(fs::exists(mesh / "summary.json"));
+  EXPECT_TRUE(fs::exists(mesh / "fine_surface.vtu"));
+
+  const fs::path user = fs::path(dir / "user");
+  fs::create_directories(user);
+  std::ofstream(user / "notes.txt") << "mine";
+  write_mesh_folder(user.string(), h, report);
+  EXPECT_EQ(read_file((user / "notes.txt").string()), "mine");
+  EXPECT_TRUE(fs::exists(user / "summary.json"));
+  EXPECT_FALSE(fs::exists(user.string() + ".tmp" + std::to_string(getpid())));
+}
+
 }  // namespace tb

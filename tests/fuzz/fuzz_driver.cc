@@ -146,30 +146,6 @@ std::vector<std::string> load_corpus(const fs::path& dir) {
   return out;
 }
 
-/// A message with its variable parts taken out, to count distinct kinds of error:
-/// the workspace folder, quoted text (as '...') and numbers (as #).
-std::string message_kind(std::string m, const std::string& workspace) {
-  for (size_t at; (at = m.find(workspace)) != std::string::npos;) m.replace(at, workspace.size(), "");
-  std::string out;
-  for (size_t i = 0; i < m.size() && out.size() < 300;) {
-    const char c = m[i];
-    if (c == '\'') {
-      const size_t close = m.find('\'', i + 1);
-      out += "'...'";
-      i = close == std::string::npos ? m.size() : close + 1;
-    } else if ((c >= '0' && c <= '9') ||
-               ((c == '-' || c == '+') && i + 1 < m.size() && m[i + 1] >= '0' && m[i + 1] <= '9')) {
-      out += '#';
-      for (++i; i < m.size() && (std::isdigit(static_cast<unsigned char>(m[i])) || std::strchr(".eE+-", m[i])); ++i) {
-      }
-    } else {
-      out += c;
-      ++i;
-    }
-  }
-  return out;
-}
-
 struct Stats {
   long inputs = 0, accepted = 0, rejected = 0, findings = 0;
   std::set<std::string> kinds;

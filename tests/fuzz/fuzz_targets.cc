@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -175,6 +177,29 @@ Outcome run_input(const Target& target, const std::string& bytes, const Workspac
   for (const std::string& f : target.files) named = named || message.find(f) != std::string::npos;
   if (!named) return {Outcome::Kind::Finding, "a message that names no input file: " + message};
   return {Outcome::Kind::Rejected, message};
+}
+
+std::string message_kind(std::string m, const std::string& workspace) {
+  for (size_t at; !workspace.empty() && (at = m.find(workspace)) != std::string::npos;)
+    m.replace(at, workspace.size(), "");
+  std::string out;
+  for (size_t i = 0; i < m.size() && out.size() < 300;) {
+    const char c = m[i];
+    if (c == '\'') {
+      const size_t close = m.find('\'', i + 1);
+      out += "'...'";
+      i = close == std::string::npos ? m.size() : close + 1;
+    } else if ((c >= '0' && c <= '9') ||
+               ((c == '-' || c == '+') && i + 1 < m.size() && m[i + 1] >= '0' && m[i + 1] <= '9')) {
+      out += '#';
+      for (++i; i < m.size() && (std::isdigit(static_cast<unsigned char>(m[i])) || std::strchr(".eE+-", m[i])); ++i) {
+      }
+    } else {
+      out += c;
+      ++i;
+    }
+  }
+  return out;
 }
 
 }  // namespace tb::fuzz

@@ -74,6 +74,11 @@ struct Outcome {
 /// Runs one input through `target` and judges the result against the contract.
 Outcome run_input(const Target& target, const std::string& bytes, const Workspace& workspace);
 
+/// A rejection's message with its variable parts taken out, to count distinct kinds
+/// of error (both drivers): the workspace folder, quoted text (as '...') and numbers
+/// (as #).
+std::string message_kind(std::string message, const std::string& workspace);
+
 /// The TetGen target's input holds the .node file, this line, then the .ele file.
 inline constexpr const char* kTetgenSeparator = "\n#--ele--\n";
 
