@@ -105,6 +105,7 @@ TEST(Tools, ReactionsBalanceTheAppliedLoadsInEveryModelThatMeasuresThem) {
   int measured = 0;
   for (const ModelInfo& info : registered_models()) {
     if (info.reactions.empty() || !info.takes(ToolKind::Grasp) || !info.takes(ToolKind::BondedPlate)) continue;
+    if (info.reactions.rfind("a sphere only", 0) == 0) continue;  // pbd: measures a sphere's force alone
     Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, kLoads, tools},
               resolve_parameters(info.parameters, {}, info.name), Points()};
     auto m = info.create();
@@ -285,7 +286,7 @@ TEST(Tools, ModelsWithoutToolsRefuseThemBeforeSetup) {
     FAIL() << "pbd has no sliding plate";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "model 'pbd' does not take sliding_plate tools (tools[2]); it takes grasp, bonded_plate");
+              "model 'pbd' does not take sliding_plate tools (tools[2]); it takes grasp, bonded_plate, sphere");
   }
   EXPECT_THROW(check_supported(find_model("condensed"), c), std::invalid_argument);
 }
