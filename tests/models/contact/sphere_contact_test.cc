@@ -221,7 +221,9 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
     // The hybrid's control points follow the coarse FEM, which does not feel the sphere.
     const bool projects_all = info.name != "hybrid";
     const double tolerance = info.dynamic ? 1e-6 : 1e-9 * R;
-    if (projects_all) EXPECT_LE(on.max_penetration, tolerance) << info.name;
+    if (projects_all) {
+      EXPECT_LE(on.max_penetration, tolerance) << info.name;
+    }
     const Displacements& u = m->surface_displacement();
     for (Eigen::Index v = 0; v < u.rows() && projects_all; ++v)
       EXPECT_GE((cube().fine_surface.V.row(v) + u.row(v) - pressed.transpose()).norm(), R - tolerance)
@@ -308,8 +310,9 @@ TEST(SphereContact, ASphereOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesO
       EXPECT_LT(u(top, 2), -0.001) << name << " " << info.name << ": the top vertex is pushed down";
       const ToolContact c = (*m->tool_contacts())[0];
       EXPECT_GT(c.points, 0) << name << " " << info.name;
-      if (info.name != "hybrid")  // the hybrid's control points follow the coarse FEM, not the sphere
+      if (info.name != "hybrid") {  // the hybrid's control points follow the coarse FEM, not the sphere
         EXPECT_LE(c.max_penetration, info.dynamic ? 1e-6 : 1e-9 * R) << name << " " << info.name;
+      }
       RecordProperty(name + "_" + info.name + "_penetration", ::testing::PrintToString(c.max_penetration));
     }
   }
