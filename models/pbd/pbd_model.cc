@@ -75,7 +75,10 @@ class PbdModel : public Model {
   }
 
   const Displacements& surface_displacement() const override { return u_; }
-  const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &reactions_; }
+  /// Only with a sphere (its force; the rest NaN): without one pbd measures nothing.
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override {
+    return spheres_.empty() ? nullptr : &reactions_;
+  }
   const std::vector<ToolContact>* tool_contacts() const override { return spheres_.empty() ? nullptr : &contacts_; }
   const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
   nlohmann::json report() const override { return solver_->details(); }
