@@ -157,7 +157,7 @@ Indentation indent(double h0, double q, double d, double nu) {
   Indentation out;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.sphere = contact.forces()[0];
-  out.force = -4 * out.sphere.z();  // the whole sphere's: four quarters
+  out.force = 4 * out.sphere.z();  // the whole sphere's (four quarters); the tissue pushes it up, +z
   const double Estar = E / (1 - nu * nu);
   out.hertz = 4.0 / 3.0 * Estar * std::sqrt(R) * std::pow(d, 1.5);
   out.nodes = static_cast<int>(X.rows());
