@@ -30,8 +30,8 @@ struct Problem {
 
 /// A contact tool's (a sphere's) state after a frame; zero for the other tools.
 struct ToolContact {
-  int points = 0;              ///< surface points in contact (FEM: active nodes; PBD: vertices projected)
-  double area = 0;             ///< m^2: the surface triangles whose three vertices are all in contact
+  int points = 0;              ///< surface points in contact (FEM: active nodes; PBD, hybrid: vertices on the sphere at the end of the frame)
+  double area = 0;             ///< m^2: the contact points' vertex areas (ContactArea, tool_placement.h)
   double max_penetration = 0;  ///< m: the deepest surface vertex inside the sphere after the frame (0: none)
 };
 

@@ -126,34 +126,18 @@ PrescribedGroup coarse_volume_group(const Tool& tool, const std::vector<int>& ve
   return group_of(tool, nodes);
 }
 
-ContactArea::ContactArea(const SurfaceMesh& surface)
-    : F_(surface.F), triangle_area_(surface.F.rows()), start_(static_cast<size_t>(surface.V.rows()) + 1, 0),
-      flag_(static_cast<size_t>(surface.V.rows()), 0) {
-  for (Eigen::Index t = 0; t < F_.rows(); ++t) {
-    const Eigen::Vector3d a = surface.V.row(F_(t, 0)), b = surface.V.row(F_(t, 1)), c = surface.V.row(F_(t, 2));
-    triangle_area_(t) = 0.5 * (b - a).cross(c - a).norm();
-    for (int k = 0; k < 3; ++k) ++start_[static_cast<size_t>(F_(t, k)) + 1];
+ContactArea::ContactArea(const SurfaceMesh& surface) : vertex_area_(Eigen::VectorXd::Zero(surface.V.rows())) {
+  for (Eigen::Index t = 0; t < surface.F.rows(); ++t) {
+    const Eigen::Vector3d a = surface.V.row(surface.F(t, 0)), b = surface.V.row(surface.F(t, 1)),
+                          c = surface.V.row(surface.F(t, 2));
+    const double third = (b - a).cross(c - a).norm() / 6;
+    for (int k = 0; k < 3; ++k) vertex_area_(surface.F(t, k)) += third;
   }
-  for (size_t v = 1; v < start_.size(); ++v) start_[v] += start_[v - 1];
-  triangles_.resize(static_cast<size_t>(start_.back()));
-  std::vector<int> fill(start_.begin(), start_.end() - 1);
-  for (Eigen::Index t = 0; t < F_.rows(); ++t)
-    for (int k = 0; k < 3; ++k) triangles_[static_cast<size_t>(fill[static_cast<size_t>(F_(t, k))]++)] = static_cast<int>(t);
 }
 
 double ContactArea::area(const std::vector<int>& vertices) const {
-  for (int v : vertices) flag_[static_cast<size_t>(v)] = 1;
   double sum = 0;
-  for (int v : vertices)
-    for (int i = start_[static_cast<size_t>(v)]; i < start_[static_cast<size_t>(v) + 1]; ++i) {
-      const int t = triangles_[static_cast<size_t>(i)];
-      const int a = F_(t, 0), b = F_(t, 1), c = F_(t, 2);
-      // Each triangle once: from its lowest vertex.
-      if (flag_[static_cast<size_t>(a)] && flag_[static_cast<size_t>(b)] && flag_[static_cast<size_t>(c)] &&
-          v == std::min({a, b, c}))
-        sum += triangle_area_(t);
-    }
-  for (int v : vertices) flag_[static_cast<size_t>(v)] = 0;
+  for (int v : vertices) sum += vertex_area_(v);
   return sum;
 }
 

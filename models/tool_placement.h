@@ -44,10 +44,12 @@ PrescribedGroup fine_volume_group(const Tool& tool, const std::vector<int>& vert
 PrescribedGroup coarse_volume_group(const Tool& tool, const std::vector<int>& vertices, const Points& V_surface,
                                     const TetMesh& coarse, const std::vector<char>& clamped);
 
-/// The contact area of a set of surface vertices: the summed area of the surface
-/// triangles whose three vertices are all in the set (a lower bound of the true
-/// patch, which ends between the last vertex in contact and the first not).
-/// Set up once per surface; area() allocates nothing.
+/// The contact area of a set of surface vertices: the sum of their vertex areas, a
+/// vertex's area one third of the summed area of its triangles (the barycentric
+/// dual area; all vertices' areas sum to the surface's area): the patch up to about
+/// halfway to the first vertex out of contact.
+/// The same measure for every model: the FEM's active nodes, PBD's and the
+/// hybrid's vertices on the sphere at the end of the frame. No allocation per call.
 class ContactArea {
  public:
   explicit ContactArea(const SurfaceMesh& surface);
@@ -55,10 +57,7 @@ class ContactArea {
   double area(const std::vector<int>& vertices) const;
 
  private:
-  Eigen::MatrixXi F_;
-  Eigen::VectorXd triangle_area_;
-  std::vector<int> start_, triangles_;  ///< each vertex's triangles (CSR)
-  mutable std::vector<char> flag_;
+  Eigen::VectorXd vertex_area_;  ///< a third of each vertex's triangles' area
 };
 
 /// Where each probe point sits in `volume`: its containing tet (within a relative

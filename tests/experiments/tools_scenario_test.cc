@@ -175,12 +175,14 @@ TEST_F(SphereScenarios, ASphereWritesItsContactAndForcePerFrame) {
   const auto outcomes = run_experiment(load_experiment(write("sphere.json", sphere_on_cube())), o);
   ASSERT_EQ(outcomes.size(), 3u);
   for (const CaseOutcome& c : outcomes) EXPECT_TRUE(c.ok) << c.case_name << ": " << c.error;
-  const std::filesystem::path fem = dir / "out" / "sphere" / "small" / "fem-direct";
+  const std::filesystem::path folder = dir / "out" / "small" / "small";  // a scenario run alone
+  const std::filesystem::path fem = folder / "fem-direct";
   const std::string contact = read(fem / "contact.csv");
   EXPECT_EQ(contact.rfind("frame,constraint,kind,points_in_contact,contact_area_m2,max_penetration_m\n", 0), 0u);
   EXPECT_NE(contact.find("\n4,tools[0],sphere,"), std::string::npos) << contact;
   EXPECT_NE(read(fem / "reactions.csv").find("\n4,tools[0],sphere,"), std::string::npos);
-  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "sphere" / "small" / "pbd" / "contact.csv"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "pbd" / "contact.csv"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "hybrid" / "contact.csv"));
 
   nlohmann::json j = sphere_on_cube();
   j["models"] = {{{"model", "embedded"}}};

@@ -9,9 +9,16 @@
 namespace tb {
 namespace {
 
-/// A surface node joins when it is deeper than this fraction of the radius, and an
-/// active node counts as on its sphere within it (the normal re-linearised until then).
+/// A surface node joins when it is deeper than this fraction of the radius.
 constexpr double kGapTolerance = 1e-9;
+/// An active node counts as on its sphere within this fraction of the radius (the
+/// normal re-linearised until then). The linearised constraint puts the node on the
+/// sphere's tangent plane, outside the sphere, so this bounds how far above it the
+/// node may sit, not a penetration. The re-linearisation converges linearly, by the
+/// ratio of the node's tangential sliding to r each iteration (0.93 for a single
+/// node pressed into the coarse L-block of the contact experiment): 1e-9 r took more
+/// than 100 iterations there, 1e-6 r about 40.
+constexpr double kOnSphereTolerance = 1e-6;
 
 }  // namespace
 
@@ -63,8 +70,9 @@ void SphereContact::solve(const Eigen::MatrixX3d& centres, const Eigen::VectorXd
   depth_.assign(spheres, 0);
   iterations_ = 0;
 
-  // Candidates: surface nodes with a free component near a sphere without contact, within 0.1 r plus
-  // twice the deepest penetration; a node found inside later is added and G rebuilt.
+  // Candidates: surface nodes with a free component near a sphere without contact, within margin_ r
+  // plus depth_factor_ times the deepest penetration (0.1 r and twice by default); a node found inside
+  // later is added and G rebuilt.
   std::vector<int> wanted;
   for (size_t k = 0; k < spheres; ++k) {
     const Eigen::Vector3d c = centres.row(static_cast<Eigen::Index>(k)).transpose();
@@ -74,7 +82,7 @@ void SphereContact::solve(const Eigen::MatrixX3d& centres, const Eigen::VectorXd
       deepest = std::max(deepest, r - (position(u0, node_of(static_cast<int>(v))) - c).norm());
     for (size_t v = 0; v < surface_nodes_.size(); ++v)
       if (free_node(node_of(static_cast<int>(v))) &&
-          (position(u0, node_of(static_cast<int>(v))) - c).norm() < r + 0.1 * r + 2 * deepest)
+          (position(u0, node_of(static_cast<int>(v))) - c).norm() < r + margin_ * r + depth_factor_ * deepest)
         wanted.push_back(static_cast<int>(v));
   }
   std::sort(wanted.begin(), wanted.end());
@@ -151,7 +159,7 @@ void SphereContact::solve(const Eigen::MatrixX3d& centres, const Eigen::VectorXd
       std::sort(next.begin(), next.end());
       std::vector<std::pair<int, int>> sorted = active;
       std::sort(sorted.begin(), sorted.end());
-      settled = next == sorted && off <= kGapTolerance;
+      settled = next == sorted && off <= kOnSphereTolerance;
       if (!settled) active = next;
     }
     if (!settled)

@@ -38,6 +38,17 @@ class SphereContact {
   ///   surface_nodes  the body's node of each surface vertex (the candidates)
   SphereContact(const ElasticBody& body, ElasticSolve& solve, std::vector<int> surface_nodes);
 
+  /// Which surface nodes get a flexibility column (3 solves each, the cost of a
+  /// frame whose candidates change): those free nodes nearer a sphere's centre, at
+  /// the solution without contact, than r + margin r + depth_factor times the
+  /// deepest penetration. A node found inside the sphere that is not a candidate
+  /// joins and G is rebuilt, so these change the cost, not the solution (unless a
+  /// node is still missed after 3 rebuilds: then penetration() reports it).
+  void set_candidate_margin(double margin, double depth_factor) {
+    margin_ = margin;
+    depth_factor_ = depth_factor;
+  }
+
   /// u (3 #V) in: the body's solution without contact under this frame's loads and
   /// prescribed values; out: with the spheres (centres #S by 3, radii #S).
   /// Throws std::runtime_error when the active set does not settle in
@@ -68,6 +79,7 @@ class SphereContact {
   std::vector<double> depth_;
   std::vector<std::pair<int, Eigen::Vector3d>> node_forces_;
   Eigen::VectorXd f_free_, w_, column_;
+  double margin_ = 0.1, depth_factor_ = 2;
   int iterations_ = 0, max_iterations_seen_ = 0, candidate_count_max_ = 0, flexibility_solves_ = 0;
   /// G for the candidate list (3 solves per candidate).
   void build_flexibility();

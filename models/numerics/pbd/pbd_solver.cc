@@ -270,9 +270,18 @@ void Solver::step(const std::vector<Eigen::Vector3d>& load_values, const std::ve
     for (size_t k = 0; k < spheres; ++k) {
       sphere_force_[k] /= -(h * h * s_.substeps);  // the surface's force on the sphere, averaged over the sub-steps
       const Eigen::Vector3d c = sphere_centre_.row(static_cast<Eigen::Index>(k)).transpose();
+      const double r = sphere_radius_(static_cast<Eigen::Index>(k));
+      // The contacts at the end of the frame: the tested vertices on the sphere (within
+      // kSphereContactTolerance r of its surface) or inside it, whether or not the last
+      // sweep moved them (docs/equations.md, "Contact with a rigid sphere").
       double depth = 0;
-      for (int v : sphere_candidates_[k])
-        depth = std::max(depth, sphere_radius_(static_cast<Eigen::Index>(k)) - (x_.row(v).transpose() - c).norm());
+      sphere_contact_[k].clear();
+      for (int v : sphere_candidates_[k]) {
+        const double gap = (x_.row(v).transpose() - c).norm() - r;
+        depth = std::max(depth, -gap);
+        if (gap <= kSphereContactTolerance * r) sphere_contact_[k].push_back(v);
+      }
+      std::sort(sphere_contact_[k].begin(), sphere_contact_[k].end());
       sphere_depth_[k] = depth;
     }
   }
@@ -302,14 +311,13 @@ void Solver::set_spheres(const Points& centres, const Eigen::VectorXd& radii) {
     sphere_force_.assign(n, Eigen::Vector3d::Zero());
     sphere_dp_.assign(n, Eigen::Vector3d::Zero());
     sphere_depth_.assign(n, 0);
-    touched_.assign(static_cast<size_t>(rest_.rows()), 0);
   }
   sphere_centre_ = centres;
   sphere_radius_ = radii;
 }
 
 template <class S>
-void Solver::project_spheres(S* rows, bool record) {
+void Solver::project_spheres(S* rows) {
   // C(p) = |p - c| - r >= 0 (Mueller et al. 2007, sec. 3.5): a vertex inside is moved
   // to the nearest point of the sphere, along the normal, by its whole violation
   // (a collision constraint has stiffness 1); a fixed vertex (w = 0) is not moved.
@@ -327,7 +335,6 @@ void Solver::project_spheres(S* rows, bool record) {
       for (int i = 0; i < 3; ++i) q[i] = static_cast<S>(to(i));
       const Eigen::Vector3d moved = Eigen::Vector3d(q[0], q[1], q[2]) - p;
       sphere_dp_[k] += moved / w_(v);  // mass x correction
-      if (record) touched_[static_cast<size_t>(v)] = 1;
     }
   }
 }
@@ -378,27 +385,18 @@ void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values,
     if (xpbd && s_.kernels == Kernels::Reference)
       for (Eigen::VectorXd& lambda : lambda_) lambda.setZero();
     for (int it = 0; it < s_.iterations; ++it) {
-      const bool last = it + 1 == s_.iterations;
       if (single) {
         batches_.sweep(q_.data(), it % 2 == 1, k_, options, isa_);
-        project_spheres(q_.data(), last);
+        project_spheres(q_.data());
       } else if (s_.kernels == Kernels::Simd) {
         batches_.sweep(p_.data(), it % 2 == 1, k_, options, isa_);
-        project_spheres(p_.data(), last);
+        project_spheres(p_.data());
       } else {
         scalar_sweep(it % 2 == 1, xpbd);
-        project_spheres(p_.data(), last);
+        project_spheres(p_.data());
       }
     }
-    // The contacts: the vertices the last sweep's projection moved.
-    for (size_t k = 0; k < sphere_force_.size(); ++k) {
-      sphere_force_[k] += sphere_dp_[k];
-      sphere_contact_[k].clear();
-      for (int v : sphere_candidates_[k])
-        if (touched_[static_cast<size_t>(v)]) sphere_contact_[k].push_back(v);
-    }
-    for (size_t k = 0; k < sphere_force_.size(); ++k)
-      for (int v : sphere_candidates_[k]) touched_[static_cast<size_t>(v)] = 0;
+    for (size_t k = 0; k < sphere_force_.size(); ++k) sphere_force_[k] += sphere_dp_[k];
   } else if (single) {
     batches_.project(q_.data(), s_.iterations, k_, options, isa_, team_.get());
   } else if (s_.kernels == Kernels::Simd) {

@@ -133,8 +133,13 @@ class Solver {
   /// correction in a sub-step of h, averaged over the frame's sub-steps: the force
   /// that would change the vertices' momentum by what the projection changed it.
   const std::vector<Eigen::Vector3d>& sphere_forces() const { return sphere_force_; }
-  /// After step(), per sphere: the vertices on it (moved by its projection in the
-  /// last sub-step), ascending, and how deep the deepest vertex is inside it (m).
+  /// A vertex is in contact with a sphere of radius r at the end of a frame when it
+  /// is within this fraction of r of the sphere's surface, or inside it.
+  static constexpr double kSphereContactTolerance = 0.01;
+  /// After step(), per sphere: the vertices in contact at the end of the frame (those
+  /// the grid query returned within kSphereContactTolerance r of its surface or
+  /// inside; not only those the last sweep moved), ascending, and how deep the
+  /// deepest vertex is inside it (m).
   const std::vector<std::vector<int>>& sphere_contacts() const { return sphere_contact_; }
   const std::vector<double>& sphere_penetration() const { return sphere_depth_; }
   /// The vertices the last step() tested against each sphere (the grid query).
@@ -201,11 +206,10 @@ class Solver {
   std::vector<std::vector<int>> sphere_candidates_, sphere_contact_;
   std::vector<Eigen::Vector3d> sphere_force_, sphere_dp_;
   std::vector<double> sphere_depth_;
-  std::vector<char> touched_;  // #V work: a vertex moved by a sphere in this sub-step
   /// Every sphere's projection on its candidates (positions S: double or float
   /// rows); `dp` accumulates each sphere's total correction x mass.
   template <class S>
-  void project_spheres(S* rows, bool record);
+  void project_spheres(S* rows);
   /// The position of the kind named `kind` in c_ (std::invalid_argument if none).
   size_t kind_index(const std::string& kind) const;
   /// c_ and w_ on rows of p_ (row_of_), ordered and packed in `width` lanes.
