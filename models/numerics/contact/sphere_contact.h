@@ -17,7 +17,7 @@
 // The active set: nodes whose position penetrates a sphere join; nodes whose
 // multiplier is tensile (lambda < 0: the tissue pulls away) leave; the normals are
 // re-linearised at the new positions; until the set does not change and every
-// active node lies on its sphere (Hueeber and Wohlmuth 2005 call this a
+// active node lies on its sphere within 1e-6 r (Hueeber and Wohlmuth 2005 call this a
 // primal-dual active set method).
 #pragma once
 

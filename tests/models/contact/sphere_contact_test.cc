@@ -268,13 +268,13 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
     EXPECT_GT(on.points, 0) << info.name;
     // The contact set as defined (docs/equations.md): PBD and the hybrid, every vertex
     // within 0.01 R of the sphere's surface or inside it at the end of the frame; the
-    // FEM, the active nodes, each on the sphere (and none inside).
+    // FEM, the active nodes, each on the sphere to 1e-6 R (and none inside).
     {
       const Displacements& u = m->surface_displacement();
       int on_sphere = 0, within = 0;
       for (Eigen::Index v = 0; v < u.rows(); ++v) {
         const double gap = (cube().fine_surface.V.row(v) + u.row(v) - pressed.transpose()).norm() - R;
-        on_sphere += gap <= 1e-9 * R;
+        on_sphere += gap <= 1e-6 * R;  // an active node sits within 1e-6 r above the sphere
         within += gap <= 0.01 * R;
       }
       if (info.name == "fem")
