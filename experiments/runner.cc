@@ -166,6 +166,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   FrameLoads loads;
   // The force on each tool and the support, per frame (Model::reaction_forces).
   std::vector<std::vector<Eigen::Vector3d>> reactions;
+  // Each contact tool's state, per frame (Model::tool_contacts).
+  std::vector<std::vector<ToolContact>> contacts;
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < budget; ++frame) {
     s.loads_at(frame, loads);
@@ -177,6 +179,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k].second.push_back(model->last_phase_times()[k].ms);
     out.frames = frame + 1;
     if (const auto* r = model->reaction_forces()) reactions.push_back(*r);
+    if (const auto* c = model->tool_contacts()) contacts.push_back(*c);
 
     const Displacements& u = model->surface_displacement();
     if (!u.allFinite())
@@ -250,6 +253,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
               ? nlohmann::json{{"file", "reactions.csv"}, {"how", info.reactions}}
               : nlohmann::json{{"file", nullptr},
                                {"why_not", "model '" + info.name + "' does not measure reaction forces"}};
+      if (model->tool_contacts()) obs["contact"] = {{"file", "contact.csv"}};
     }
     if (s.probes.rows() > 0)
       obs["probes"] = model->probe_displacements()
@@ -293,6 +297,18 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
             << reactions[f][k].y() << ',' << reactions[f][k].z() << '\n';
       }
     write_file_atomically((staging / "reactions.csv").string(), csv.str());
+  }
+  if (!contacts.empty()) {
+    // Each sphere's contact, every frame: points in contact, the area of the surface
+    // triangles all of whose vertices are in contact (m^2), the deepest vertex inside (m).
+    std::ostringstream csv;
+    csv << std::setprecision(17) << "frame,constraint,kind,points_in_contact,contact_area_m2,max_penetration_m\n";
+    for (size_t f = 0; f < contacts.size(); ++f)
+      for (size_t k = 0; k < contacts[f].size() && k < s.tools.size(); ++k)
+        if (s.tools[k].tool.kind == ToolKind::Sphere)
+          csv << f << ',' << s.tools[k].tool.key << ',' << name(s.tools[k].tool.kind) << ',' << contacts[f][k].points
+              << ',' << contacts[f][k].area << ',' << contacts[f][k].max_penetration << '\n';
+    write_file_atomically((staging / "contact.csv").string(), csv.str());
   }
   if (const Points* probes = model->probe_displacements(); probes && s.probes.rows() > 0) {
     // Points from a third-party table (the Truth Cube's beads) are not copied out:

@@ -107,8 +107,19 @@ std::vector<ScenarioTool> parse_tools(StrictObject& scenario) {
   for (size_t i = 0; i < tools.size(); ++i) {
     StrictObject o = scenario.item("tools", i);
     const std::string key = "tools[" + std::to_string(i) + "]";
-    const std::string type = o.text("type", std::nullopt, {"grasp", "plate"});
+    const std::string type = o.text("type", std::nullopt, {"grasp", "plate", "sphere"});
     ScenarioTool t;
+    if (type == "sphere") {
+      // Its value is its centre: a path of [frame, x, y, z] waypoints (a constant
+      // centre: one waypoint).
+      if (!o.has("path")) o.fail("path", "a sphere needs the path of its centre, [[frame, x, y, z], ...]");
+      const double radius = o.number("radius", std::nullopt, 1e-12, 1e9);
+      t.schedule = parse_schedule(o, "centre");
+      t.tool = Tool::sphere(t.schedule.path.front().second, radius, key);
+      o.finish();
+      out.push_back(t);
+      continue;
+    }
     if (type == "grasp") {
       const Eigen::Vector3d point = o.vec3("point", std::nullopt);
       t.tool = Tool::grasp(point, o.number("radius", std::nullopt, 1e-12, 1e9), key);
@@ -227,6 +238,8 @@ nlohmann::json to_json(const ScenarioTool& t) {
   nlohmann::json j = {{"key", t.tool.key}, {"type", name(t.tool.kind)}, {"schedule", t.schedule.to_json()}};
   if (t.tool.kind == ToolKind::Grasp) {
     j["point"] = vec(t.tool.point);
+    j["radius"] = t.tool.radius;
+  } else if (t.tool.kind == ToolKind::Sphere) {
     j["radius"] = t.tool.radius;
   } else {
     j["box"] = {{"min", vec(t.tool.box.min)}, {"max", vec(t.tool.box.max)}};

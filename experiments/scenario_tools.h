@@ -37,14 +37,15 @@ struct ScenarioLoad {
 
 struct ScenarioTool {
   Tool tool;
-  Schedule schedule;  ///< the tool's displacement (m)
+  Schedule schedule;  ///< the tool's displacement (m); a sphere's centre (m)
 };
 
 /// "loads": [...] of a scenario file. Each entry: "type" point_force (point, force),
 /// surface_traction (point, radius, force) or gravity (g), and its schedule.
 std::vector<ScenarioLoad> parse_loads(StrictObject& scenario);
 /// "tools": [...]. Each entry: "type" grasp (point, radius) or plate (box {min,
-/// max}, mode bonded | sliding, normal x | y | z), and its displacement schedule.
+/// max}, mode bonded | sliding, normal x | y | z), and its displacement schedule;
+/// or sphere (radius, and the path of its centre: the schedule's value is the centre).
 std::vector<ScenarioTool> parse_tools(StrictObject& scenario);
 /// Interior points, and where they come from when it is not the scenario itself.
 struct ScenarioProbes {

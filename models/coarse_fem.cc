@@ -8,9 +8,15 @@ CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule) {
   const HybridMesh& h = *p.mesh;
   const std::vector<char> clamped = p.load_case.support.clamp(h.coarse_volume.V, "coarse volume");
   std::vector<PrescribedGroup> groups;
-  for (const Tool& tool : p.load_case.tools)
-    groups.push_back(coarse_volume_group(tool, tool_vertices(tool, h.fine_surface, p.load_case.support),
-                                         h.fine_surface.V, h.coarse_volume, clamped));
+  // A sphere holds no node (the hybrid realises it on the PBD surface only).
+  for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
+    const Tool& tool = p.load_case.tools[t];
+    const std::vector<int> held = tool_vertices(tool, h.fine_surface, p.load_case.support);
+    if (tool.kind == ToolKind::Sphere) continue;
+    group_of_tool_.emplace_back(t, groups.size());
+    groups.push_back(coarse_volume_group(tool, held, h.fine_surface.V, h.coarse_volume, clamped));
+  }
+  group_values_.assign(groups.size(), Eigen::Vector3d::Zero());
   body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material, clamped, groups);
   solve_ = make_elastic_solve(*body_, p.parameters, "coarse_");
   loads_ = std::make_unique<BodyLoads>(
@@ -23,8 +29,9 @@ CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule) {
 }
 
 void CoarseFem::step(const FrameLoads& loads) {
-  frame_->step(loads.values, loads.tool_values, u_);
-  for (size_t t = 0; t + 1 < reactions_.size(); ++t) reactions_[t] = frame_->group_forces()[t];
+  for (const auto& [t, g] : group_of_tool_) group_values_[g] = loads.tool_values[t];
+  frame_->step(loads.values, group_values_, u_);
+  for (const auto& [t, g] : group_of_tool_) reactions_[t] = frame_->group_forces()[g];
   reactions_.back() = frame_->support_force();
   interpolate_probes(probes_, body_->mesh().T, u_, probe_u_);
 }

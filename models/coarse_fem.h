@@ -45,6 +45,8 @@ class CoarseFem {
   Eigen::VectorXd u_;
   Points probe_u_;
   std::vector<Eigen::Vector3d> reactions_;
+  std::vector<std::pair<size_t, size_t>> group_of_tool_;  // (tool, prescribed group): the tools that hold nodes
+  std::vector<Eigen::Vector3d> group_values_;
 };
 
 /// What ModelInfo says of a model built on CoarseFem: its tools, how it holds them,

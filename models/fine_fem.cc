@@ -5,6 +5,7 @@
 #include <string>
 
 #include "load_placement.h"
+#include "sphere_contact.h"
 #include "tool_placement.h"
 
 namespace tb {
@@ -19,10 +20,18 @@ class FineFem : public Model {
     if (h.fine_volume.T.rows() == 0) throw std::invalid_argument(name_ + ": the scenario provides no fine volume mesh");
     try {
       // Tools: the fine-volume nodes of the surface vertices they hold, as Dirichlet values.
+      // Spheres hold no node: each is an active set of contacts (sphere_contact.h).
       std::vector<PrescribedGroup> groups;
-      for (const Tool& tool : p.load_case.tools)
-        groups.push_back(fine_volume_group(tool, tool_vertices(tool, h.fine_surface, p.load_case.support),
-                                           h.fine_surface_to_volume));
+      for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
+        const Tool& tool = p.load_case.tools[t];
+        const std::vector<int> held = tool_vertices(tool, h.fine_surface, p.load_case.support);
+        if (tool.kind == ToolKind::Sphere) {
+          spheres_.push_back(t);
+          continue;
+        }
+        group_of_tool_.emplace_back(t, groups.size());
+        groups.push_back(fine_volume_group(tool, held, h.fine_surface_to_volume));
+      }
       body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
                                             p.load_case.support.clamp(h.fine_volume.V, "fine volume"), groups);
       solve_ = make_solve_(*body_, p);
@@ -32,10 +41,19 @@ class FineFem : public Model {
                                                       &h.fine_surface_to_volume, p.material.density}));
       frame_ = std::make_unique<ElasticFrame>(*body_, *loads_, *solve_);
       probes_ = place_probes(p.probes, h.fine_volume, "fine volume", false);
+      if (!spheres_.empty()) {
+        contact_ = std::make_unique<SphereContact>(*body_, *solve_, h.fine_surface_to_volume);
+        area_ = std::make_unique<ContactArea>(h.fine_surface);
+      }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(name_ + ": " + e.what());
     }
     reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Zero());
+    contacts_.assign(p.load_case.tools.size(), ToolContact{});
+    group_values_.assign(group_of_tool_.size(), Eigen::Vector3d::Zero());
+    centres_ = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(spheres_.size()), 3);
+    radii_.resize(static_cast<Eigen::Index>(spheres_.size()));
+    for (size_t k = 0; k < spheres_.size(); ++k) radii_(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].radius;
     surface_to_volume_ = h.fine_surface_to_volume;
     u_ = Eigen::VectorXd::Zero(body_->dofs());
     surface_u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
@@ -43,22 +61,48 @@ class FineFem : public Model {
 
   void step(const FrameLoads& loads) override {
     const auto start = std::chrono::steady_clock::now();
-    frame_->step(loads.values, loads.tool_values, u_);
+    for (size_t g = 0; g < group_of_tool_.size(); ++g) group_values_[g] = loads.tool_values[group_of_tool_[g].first];
+    frame_->step(loads.values, group_values_, u_);
+    if (contact_) {
+      for (size_t k = 0; k < spheres_.size(); ++k)
+        centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
+      contact_->solve(centres_, radii_, u_);
+    }
     phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
       surface_u_.row(static_cast<Eigen::Index>(v)) = u_.segment<3>(3 * surface_to_volume_[v]).transpose();
-    for (size_t t = 0; t + 1 < reactions_.size(); ++t) reactions_[t] = frame_->group_forces()[t];
-    reactions_.back() = frame_->support_force();
+    if (!contact_) {
+      for (const auto& [t, g] : group_of_tool_) reactions_[t] = frame_->group_forces()[g];
+      reactions_.back() = frame_->support_force();
+    } else {
+      // The contact forces moved the held nodes' and the support's reactions: again at the final u.
+      loads_->assemble_full(loads.values, f_full_);
+      for (const auto& [node, f] : contact_->node_forces()) f_full_.segment<3>(3 * node) += f;
+      body_->reactions(u_, f_full_, group_forces_, reactions_.back());
+      for (const auto& [t, g] : group_of_tool_) reactions_[t] = group_forces_[g];
+      for (size_t k = 0; k < spheres_.size(); ++k) {
+        reactions_[spheres_[k]] = contact_->forces()[k];
+        ToolContact& c = contacts_[spheres_[k]];
+        c.points = static_cast<int>(contact_->contact_vertices()[k].size());
+        c.area = area_->area(contact_->contact_vertices()[k]);
+        c.max_penetration = contact_->penetration()[k];
+      }
+    }
     interpolate_probes(probes_, body_->mesh().T, u_, probe_u_);
   }
 
   const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &reactions_; }
+  const std::vector<ToolContact>* tool_contacts() const override { return contact_ ? &contacts_ : nullptr; }
   const Points* probe_displacements() const override { return &probe_u_; }
 
   const Displacements& surface_displacement() const override { return surface_u_; }
   int last_iterations() const override { return solve_->last_iterations(); }
-  nlohmann::json report() const override { return {{"fine_solve", solve_->report()}}; }
+  nlohmann::json report() const override {
+    nlohmann::json r = {{"fine_solve", solve_->report()}};
+    if (contact_) r["sphere_contact"] = contact_->report();
+    return r;
+  }
   const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
 
  private:
@@ -75,6 +119,14 @@ class FineFem : public Model {
   std::vector<int> surface_to_volume_;
   Eigen::VectorXd u_;
   Displacements surface_u_;
+  std::vector<std::pair<size_t, size_t>> group_of_tool_;  // (tool, prescribed group) of the tools that hold nodes
+  std::vector<Eigen::Vector3d> group_values_, group_forces_;
+  std::vector<size_t> spheres_;  // the tools that are spheres
+  std::unique_ptr<SphereContact> contact_;
+  std::unique_ptr<ContactArea> area_;
+  Eigen::MatrixX3d centres_;
+  Eigen::VectorXd radii_, f_full_;
+  std::vector<ToolContact> contacts_;
 };
 
 }  // namespace
@@ -85,10 +137,12 @@ std::unique_ptr<Model> make_fine_fem(const std::string& model_name, FineFemSolve
 
 void describe_fine_fem(ModelInfo& m) {
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices, as Dirichlet values (K_ff u_f = f_f - K_fp u_p); "
-                "a sliding plate holds the normal component only (not with the corotational solver)";
-  m.reactions = "f - K u at the held dofs, summed per tool and over the support (static equilibrium)";
+                "a sliding plate holds the normal component only (not with the corotational solver); a sphere: "
+                "an active set of normal contact multipliers on the factorised K (linear solvers only)";
+  m.reactions = "f - K u at the held dofs, summed per tool and over the support (static equilibrium); a sphere: "
+                "minus the sum of its contact multipliers lambda_i n_i";
   m.probes = "P1 interpolation in the fine tet containing the probe";
 }
 

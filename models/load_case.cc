@@ -34,6 +34,8 @@ const char* name(ToolKind kind) {
       return "bonded_plate";
     case ToolKind::SlidingPlate:
       return "sliding_plate";
+    case ToolKind::Sphere:
+      return "sphere";
   }
   return "unknown";
 }
@@ -53,6 +55,15 @@ Tool Tool::plate(const SupportBox& box, bool sliding, int normal_axis, std::stri
   t.key = std::move(key);
   t.box = box;
   t.normal_axis = normal_axis;
+  return t;
+}
+
+Tool Tool::sphere(const Eigen::Vector3d& first_centre, double radius, std::string key) {
+  Tool t;
+  t.kind = ToolKind::Sphere;
+  t.key = std::move(key);
+  t.point = first_centre;
+  t.radius = radius;
   return t;
 }
 

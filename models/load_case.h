@@ -67,9 +67,14 @@ enum class ToolKind {
   Grasp,         ///< the surface vertices within a radius of a point, bonded; value: their displacement (m)
   BondedPlate,   ///< the surface vertices in a box, bonded to a rigid plate; value: its displacement (m)
   SlidingPlate,  ///< the same, frictionless: only the component along the plate's normal axis is held
+  /// A rigid frictionless sphere in unilateral contact: the surface may not enter it
+  /// and leaves it where the tissue pulls away; holds no vertex at setup. Value: its
+  /// centre (m), not a displacement (docs/equations.md, "Contact with a rigid sphere").
+  Sphere,
 };
-inline constexpr ToolKind kToolKinds[] = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
-/// "grasp", "bonded_plate", "sliding_plate".
+inline constexpr ToolKind kToolKinds[] = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate,
+                                          ToolKind::Sphere};
+/// "grasp", "bonded_plate", "sliding_plate", "sphere".
 const char* name(ToolKind kind);
 
 /// A tool as placed in the rest configuration, fixed for the run: the surface
@@ -77,14 +82,20 @@ const char* name(ToolKind kind);
 struct Tool {
   ToolKind kind = ToolKind::Grasp;
   std::string key = "tools[0]";  ///< where the scenario states it: named in every error about it
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< Grasp: the grasped surface point (m)
-  double radius = 0;                                ///< Grasp: vertices within this distance of `point` (m)
+  /// Grasp: the grasped surface point (m); Sphere: its centre at the first frame
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double radius = 0;  ///< Grasp: vertices within this distance of `point` (m); Sphere: its radius (m)
   SupportBox box;                                   ///< Plate: vertices whose rest position is in the box
   int normal_axis = 2;                              ///< SlidingPlate: 0, 1, 2 for x, y, z
 
   static Tool grasp(const Eigen::Vector3d& point, double radius, std::string key = "tools[0]");
   static Tool plate(const SupportBox& box, bool sliding, int normal_axis = 2, std::string key = "tools[0]");
+  static Tool sphere(const Eigen::Vector3d& first_centre, double radius, std::string key = "tools[0]");
 };
+
+/// A sphere starting inside the body by more than this fraction of its radius is an
+/// error (tool_vertices): a touching start is allowed up to rounding and meshing.
+inline constexpr double kSphereStartTolerance = 1e-3;
 
 /// Everything a run holds fixed about the boundary-value problem.
 struct LoadCase {
@@ -95,7 +106,7 @@ struct LoadCase {
 
 /// One frame's value of every load and tool of the LoadCase, in its order: a force
 /// (N) for PointForce and SurfaceTraction, an acceleration (m/s^2) for BodyForce;
-/// a displacement (m) for every tool.
+/// a displacement (m) for every tool but a sphere, whose value is its centre (m).
 struct FrameLoads {
   std::vector<Eigen::Vector3d> values;
   std::vector<Eigen::Vector3d> tool_values;

@@ -28,6 +28,13 @@ struct Problem {
   Points probes;
 };
 
+/// A contact tool's (a sphere's) state after a frame; zero for the other tools.
+struct ToolContact {
+  int points = 0;              ///< surface points in contact (FEM: active nodes; PBD, hybrid: vertices on the sphere at the end of the frame)
+  double area = 0;             ///< m^2: the contact points' vertex areas (ContactArea, tool_placement.h)
+  double max_penetration = 0;  ///< m: the deepest surface vertex inside the sphere after the frame (0: none)
+};
+
 /// #V_surface by 3 displacements of the fine-surface vertices.
 using Displacements = Points;
 
@@ -64,6 +71,9 @@ class Model {
   /// and then on the support, N: #tools + 1. Null when the model does not measure
   /// it (ModelInfo::reactions is empty).
   virtual const std::vector<Eigen::Vector3d>* reaction_forces() const { return nullptr; }
+  /// After step(): per tool (LoadCase::tools order) its contact state (a sphere's;
+  /// zeros for the other tools). Null when the model takes no contact tool.
+  virtual const std::vector<ToolContact>* tool_contacts() const { return nullptr; }
   /// After step(): the displacement at each Problem::probes point (#P by 3). Null
   /// when the model has no volume to interpolate in (ModelInfo::probes is empty).
   virtual const Points* probe_displacements() const { return nullptr; }

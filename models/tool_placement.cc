@@ -1,5 +1,6 @@
 #include "tool_placement.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,7 +37,40 @@ PrescribedGroup group_of(const Tool& tool, std::vector<int> nodes) {
 
 }  // namespace
 
+namespace {
+
+void check_sphere(const Tool& tool, const SurfaceMesh& surface) {
+  if (!(std::isfinite(tool.radius) && tool.radius > 0))
+    fail(tool, "radius " + std::to_string(tool.radius) + " is not a positive length (m)");
+  if (!tool.point.allFinite()) fail(tool, "its centre " + point_text(tool.point) + " is not finite");
+  double deepest = 0;
+  Eigen::Index at = -1;
+  for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
+    const double depth = tool.radius - (surface.V.row(v).transpose() - tool.point).norm();
+    if (depth > deepest) {
+      deepest = depth;
+      at = v;
+    }
+  }
+  std::ostringstream msg;
+  if (deepest > kSphereStartTolerance * tool.radius) {
+    msg << "at its first centre " << point_text(tool.point) << " surface vertex " << at << " is " << deepest
+        << " m inside it (tolerance " << kSphereStartTolerance << " x radius): start the sphere outside the body";
+    fail(tool, msg.str());
+  }
+  if (surface.F.rows() > 0 && winding_number(surface, tool.point) >= 0.5) {
+    msg << "its first centre " << point_text(tool.point) << " is inside the body: start the sphere outside it";
+    fail(tool, msg.str());
+  }
+}
+
+}  // namespace
+
 std::vector<int> tool_vertices(const Tool& tool, const SurfaceMesh& surface, const SupportBox& support) {
+  if (tool.kind == ToolKind::Sphere) {
+    check_sphere(tool, surface);
+    return {};
+  }
   const Points& V = surface.V;
   std::vector<int> held;
   double nearest = std::numeric_limits<double>::infinity();
@@ -90,6 +124,21 @@ PrescribedGroup coarse_volume_group(const Tool& tool, const std::vector<int>& ve
     fail(tool, "the coarse nodes nearest its " + std::to_string(vertices.size()) +
                    " surface vertices are all clamped by the support: the coarse mesh cannot hold it");
   return group_of(tool, nodes);
+}
+
+ContactArea::ContactArea(const SurfaceMesh& surface) : vertex_area_(Eigen::VectorXd::Zero(surface.V.rows())) {
+  for (Eigen::Index t = 0; t < surface.F.rows(); ++t) {
+    const Eigen::Vector3d a = surface.V.row(surface.F(t, 0)), b = surface.V.row(surface.F(t, 1)),
+                          c = surface.V.row(surface.F(t, 2));
+    const double third = (b - a).cross(c - a).norm() / 6;
+    for (int k = 0; k < 3; ++k) vertex_area_(surface.F(t, k)) += third;
+  }
+}
+
+double ContactArea::area(const std::vector<int>& vertices) const {
+  double sum = 0;
+  for (int v : vertices) sum += vertex_area_(v);
+  return sum;
 }
 
 std::vector<TetEmbedding> place_probes(const Points& probes, const TetMesh& volume, const std::string& mesh_name,

@@ -26,7 +26,10 @@ namespace tb {
 
 /// The fine-surface vertices `tool` holds, ascending. Throws std::invalid_argument
 /// naming the tool's key when it holds none (with the nearest vertex's distance)
-/// or when one of them is in the support box.
+/// or when one of them is in the support box. A sphere holds none: it is checked
+/// instead (a positive radius, a finite centre, and at its first centre no surface
+/// vertex deeper inside it than kSphereStartTolerance times its radius and its
+/// centre not inside the body), and the list is empty.
 std::vector<int> tool_vertices(const Tool& tool, const SurfaceMesh& surface, const SupportBox& support);
 
 /// The prescribed group of `tool` on a volume whose node surface_to_volume[v] is
@@ -40,6 +43,22 @@ PrescribedGroup fine_volume_group(const Tool& tool, const std::vector<int>& vert
 ///   V_surface  #V by 3, clamped  #coarse nodes flags
 PrescribedGroup coarse_volume_group(const Tool& tool, const std::vector<int>& vertices, const Points& V_surface,
                                     const TetMesh& coarse, const std::vector<char>& clamped);
+
+/// The contact area of a set of surface vertices: the sum of their vertex areas, a
+/// vertex's area one third of the summed area of its triangles (the barycentric
+/// dual area; all vertices' areas sum to the surface's area): the patch up to about
+/// halfway to the first vertex out of contact.
+/// The same measure for every model: the FEM's active nodes, PBD's and the
+/// hybrid's vertices on the sphere at the end of the frame. No allocation per call.
+class ContactArea {
+ public:
+  explicit ContactArea(const SurfaceMesh& surface);
+  ///   vertices  surface vertex indices in contact (any order, distinct)
+  double area(const std::vector<int>& vertices) const;
+
+ private:
+  Eigen::VectorXd vertex_area_;  ///< a third of each vertex's triangles' area
+};
 
 /// Where each probe point sits in `volume`: its containing tet (within a relative
 /// tolerance of 1e-6 of the mesh size), or with `nearest` the nearest tet,

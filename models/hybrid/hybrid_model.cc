@@ -60,7 +60,9 @@ class HybridModel : public Model {
     for (const Tool& tool : p.load_case.tools) {
       if (tool.kind == ToolKind::SlidingPlate)
         throw std::invalid_argument("hybrid: " + tool.key + ": a sliding plate is not realised on the PBD surface");
-      tool_vertices_.push_back(tool_vertices(tool, h.fine_surface, p.load_case.support));
+      if (tool.kind == ToolKind::Sphere && exact_)
+        throw std::invalid_argument("hybrid: " + tool.key + ": a sphere needs control_points coarse_fem");
+      tool_vertices_.push_back(tool_vertices(tool, h.fine_surface, p.load_case.support));  // none for a sphere
       for (int v : tool_vertices_.back()) held[static_cast<size_t>(v)] = 1;
     }
     control_.clear();
@@ -111,6 +113,22 @@ class HybridModel : public Model {
                                           solver_->settings().load_spread == pbd::LoadSpread::SurfaceTriangle,
                                           pbd::lumped_surface_masses(s, p.material.density)));
     u_ = Displacements::Zero(s.V.rows(), 3);
+    // Spheres act on the PBD surface only (pbd_solver.h: a collision constraint per
+    // vertex); the coarse FEM does not feel them, so a control point it pins is not moved.
+    spheres_.clear();
+    for (size_t t = 0; t < p.load_case.tools.size(); ++t)
+      if (p.load_case.tools[t].kind == ToolKind::Sphere) spheres_.push_back(t);
+    sphere_centres_ = Points::Zero(static_cast<Eigen::Index>(spheres_.size()), 3);
+    sphere_radii_.resize(static_cast<Eigen::Index>(spheres_.size()));
+    for (size_t k = 0; k < spheres_.size(); ++k) {
+      sphere_centres_.row(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].point.transpose();
+      sphere_radii_(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].radius;
+    }
+    if (!spheres_.empty()) {
+      solver_->set_spheres(sphere_centres_, sphere_radii_);
+      area_ = std::make_unique<ContactArea>(s);
+    }
+    contacts_.assign(p.load_case.tools.size(), ToolContact{});
   }
 
   void step(const FrameLoads& loads) override {
@@ -137,10 +155,23 @@ class HybridModel : public Model {
       for (int v : tool_vertices_[t]) pinned_positions_.row(row++) = rest.row(v) + loads.tool_values[t].transpose();
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
+    for (size_t k = 0; k < spheres_.size(); ++k)
+      sphere_centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
+    if (!spheres_.empty()) solver_->set_spheres(sphere_centres_, sphere_radii_);
     const auto t2 = Clock::now();
     solver_->step(solver_->loads().empty() ? no_surface_load_values_ : loads.values, pinned_, pinned_positions_);
     const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
+    if (!spheres_.empty() && coarse_) {
+      reactions_ = coarse_->reactions();  // the sizes match after the first frame: no allocation
+      for (size_t k = 0; k < spheres_.size(); ++k) {
+        reactions_[spheres_[k]] = solver_->sphere_forces()[k];
+        ToolContact& c = contacts_[spheres_[k]];
+        c.points = static_cast<int>(solver_->sphere_contacts()[k].size());
+        c.area = area_->area(solver_->sphere_contacts()[k]);
+        c.max_penetration = solver_->sphere_penetration()[k];
+      }
+    }
     const auto t4 = Clock::now();
     phases_[0].ms = Ms(t1 - t0).count();
     phases_[1].ms = Ms(t2 - t1).count();
@@ -150,8 +181,10 @@ class HybridModel : public Model {
 
   const Displacements& surface_displacement() const override { return u_; }
   const std::vector<Eigen::Vector3d>* reaction_forces() const override {
-    return coarse_ ? &coarse_->reactions() : nullptr;
+    if (!coarse_) return nullptr;
+    return spheres_.empty() ? &coarse_->reactions() : &reactions_;
   }
+  const std::vector<ToolContact>* tool_contacts() const override { return spheres_.empty() ? nullptr : &contacts_; }
   const Points* probe_displacements() const override { return coarse_ ? &coarse_->probe_displacements() : nullptr; }
   /// The coarse solve's iterations (CG, corotational updates; 0 for the direct
   /// solve and the exact_fine_fem ablation), as the embedded model reports them.
@@ -173,6 +206,12 @@ class HybridModel : public Model {
 
  private:
   std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
+  std::vector<size_t> spheres_;  // the tools that are spheres
+  Points sphere_centres_;
+  Eigen::VectorXd sphere_radii_;
+  std::unique_ptr<ContactArea> area_;
+  std::vector<Eigen::Vector3d> reactions_;  // the coarse FEM's, with each sphere's PBD force
+  std::vector<ToolContact> contacts_;
   bool exact_control_points_ = false;
   int supported_following_coarse_ = 0;  // surface_support coarse_fem: supported vertices pinned to the coarse FEM
   std::unique_ptr<ElasticBody> fine_body_;      // exact_fine_fem only
@@ -224,12 +263,13 @@ ModelInfo hybrid_model_info() {
   m.create = [] { return std::make_unique<HybridModel>(); };
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
   describe_coarse_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate};
-  m.tools_how = "the coarse FEM holds the coarse nodes nearest the tool's surface vertices (Dirichlet values); PBD "
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::Sphere};
+  m.tools_how = "a sphere: a collision constraint on the PBD surface only, as in pbd (the coarse FEM does not feel "
+                "it; control points are not moved by it). Other tools: the coarse FEM holds the coarse nodes nearest the tool's surface vertices (Dirichlet values); PBD "
                 "pins the surface vertices themselves at rest plus the tool's displacement (eq. 33), a control point "
                 "among them following the tool. Not with control_points exact_fine_fem; no sliding plate";
   m.reactions = "the coarse FEM's f - K u at the held coarse dofs (the elastic part of the hybrid; PBD's surface "
-                "carries no force units)";
+                "carries no force units); a sphere: its PBD collision force, as in pbd";
   return m;
 }
 

@@ -1,6 +1,7 @@
 #include "pbd_model.h"
 
 #include <chrono>
+#include <limits>
 
 #include "load_placement.h"
 #include "pbd_solver.h"
@@ -16,8 +17,10 @@ class PbdModel : public Model {
     // Tools pin the surface vertices they hold (inverse mass 0) at rest plus their
     // displacement each frame (eq. 33, as the hybrid's control points).
     std::vector<char> fixed = p.load_case.support.clamp(s.V, "fine surface");
-    for (const Tool& tool : p.load_case.tools) {
-      tool_vertices_.push_back(tool_vertices(tool, s, p.load_case.support));
+    for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
+      const Tool& tool = p.load_case.tools[t];
+      tool_vertices_.push_back(tool_vertices(tool, s, p.load_case.support));  // none for a sphere
+      if (tool.kind == ToolKind::Sphere) spheres_.push_back(t);
       for (int v : tool_vertices_.back()) {
         fixed[static_cast<size_t>(v)] = 1;
         pinned_.push_back(v);
@@ -32,6 +35,20 @@ class PbdModel : public Model {
                                         solver_->settings().load_spread == pbd::LoadSpread::SurfaceTriangle,
                                         pbd::lumped_surface_masses(s, p.material.density)));
     u_ = Displacements::Zero(s.V.rows(), 3);
+    // Spheres: a collision constraint per surface vertex near each (pbd_solver.h).
+    sphere_centres_ = Points::Zero(static_cast<Eigen::Index>(spheres_.size()), 3);
+    sphere_radii_.resize(static_cast<Eigen::Index>(spheres_.size()));
+    for (size_t k = 0; k < spheres_.size(); ++k) {
+      sphere_centres_.row(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].point.transpose();
+      sphere_radii_(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].radius;
+    }
+    if (!spheres_.empty()) {
+      solver_->set_spheres(sphere_centres_, sphere_radii_);
+      area_ = std::make_unique<ContactArea>(s);
+    }
+    // Only a sphere's force is measured; the other tools' and the support's are NaN.
+    reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    contacts_.assign(p.load_case.tools.size(), ToolContact{});
   }
 
   void step(const FrameLoads& loads) override {
@@ -39,7 +56,17 @@ class PbdModel : public Model {
     for (size_t t = 0; t < tool_vertices_.size(); ++t)
       for (int v : tool_vertices_[t])
         pinned_positions_.row(row++) = solver_->rest_positions().row(v) + loads.tool_values[t].transpose();
+    for (size_t k = 0; k < spheres_.size(); ++k)
+      sphere_centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
+    if (!spheres_.empty()) solver_->set_spheres(sphere_centres_, sphere_radii_);
     solver_->step(loads.values, pinned_, pinned_positions_);
+    for (size_t k = 0; k < spheres_.size(); ++k) {
+      reactions_[spheres_[k]] = solver_->sphere_forces()[k];
+      ToolContact& c = contacts_[spheres_[k]];
+      c.points = static_cast<int>(solver_->sphere_contacts()[k].size());
+      c.area = area_->area(solver_->sphere_contacts()[k]);
+      c.max_penetration = solver_->sphere_penetration()[k];
+    }
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
     const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -48,6 +75,11 @@ class PbdModel : public Model {
   }
 
   const Displacements& surface_displacement() const override { return u_; }
+  /// Only with a sphere (its force; the rest NaN): without one pbd measures nothing.
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override {
+    return spheres_.empty() ? nullptr : &reactions_;
+  }
+  const std::vector<ToolContact>* tool_contacts() const override { return spheres_.empty() ? nullptr : &contacts_; }
   const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
   nlohmann::json report() const override { return solver_->details(); }
 
@@ -58,6 +90,12 @@ class PbdModel : public Model {
   std::vector<std::vector<int>> tool_vertices_;  // per tool: the surface vertices it pins
   std::vector<int> pinned_;                      // every tool's, in tool order
   Points pinned_positions_;
+  std::vector<size_t> spheres_;  // the tools that are spheres
+  Points sphere_centres_;
+  Eigen::VectorXd sphere_radii_;
+  std::unique_ptr<ContactArea> area_;
+  std::vector<Eigen::Vector3d> reactions_;  // a sphere's force; NaN for what is not measured
+  std::vector<ToolContact> contacts_;
 };
 
 }  // namespace
@@ -70,9 +108,12 @@ ModelInfo pbd_model_info() {
   m.parameters = pbd::parameter_specs();
   m.create = [] { return std::make_unique<PbdModel>(); };
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::Sphere};
   m.tools_how = "the held surface vertices pinned (inverse mass 0) at rest plus the tool's displacement, eq. (33); "
-                "no sliding plate (a pin holds all three components)";
+                "no sliding plate (a pin holds all three components); a sphere: each surface vertex inside it "
+                "projected to its surface after every sweep (collision constraint, Mueller et al. 2007)";
+  m.reactions = "a sphere only: -sum over the vertices it moved of mass x collision correction / h^2 per sub-step h, "
+                "averaged over the frame's sub-steps; the other tools and the support are not measured (NaN)";
   return m;
 }
 

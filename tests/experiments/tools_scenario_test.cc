@@ -147,3 +147,87 @@ TEST_F(ToolScenarios, BadToolsLoadsAndProbesAreOneLineErrorsNamingFileAndKey) {
 
 }  // namespace
 }  // namespace tb
+
+namespace tb {
+namespace {
+
+/// The small cube pressed by a sphere from above and released (docs/scenario_schema.md,
+/// "sphere"): fem, pbd and hybrid write contact.csv and the sphere's force; the other
+/// models refuse it with one line.
+class SphereScenarios : public Scenarios {
+ protected:
+  static nlohmann::json sphere_on_cube();
+};
+
+nlohmann::json SphereScenarios::sphere_on_cube() {
+  nlohmann::json j = small_cube();
+  j.erase("load");
+  j["tools"] = {{{"type", "sphere"}, {"radius", 0.03}, {"path", {{0, 0, 0, 0.13}, {2, 0, 0, 0.122}, {4, 0, 0, 0.122}}}}};
+  j["models"] = {{{"name", "fem-direct"}, {"model", "fem"}}, {{"model", "pbd"}}, {{"model", "hybrid"}}};
+  return j;
+}
+
+TEST_F(SphereScenarios, ASphereWritesItsContactAndForcePerFrame) {
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.mesh_cache_dir = "";
+  const auto outcomes = run_experiment(load_experiment(write("sphere.json", sphere_on_cube())), o);
+  ASSERT_EQ(outcomes.size(), 3u);
+  for (const CaseOutcome& c : outcomes) EXPECT_TRUE(c.ok) << c.case_name << ": " << c.error;
+  const std::filesystem::path folder = dir / "out" / "small" / "small";  // a scenario run alone
+  const std::filesystem::path fem = folder / "fem-direct";
+  const std::string contact = read(fem / "contact.csv");
+  EXPECT_EQ(contact.rfind("frame,constraint,kind,points_in_contact,contact_area_m2,max_penetration_m\n", 0), 0u);
+  EXPECT_NE(contact.find("\n4,tools[0],sphere,"), std::string::npos) << contact;
+  EXPECT_NE(read(fem / "reactions.csv").find("\n4,tools[0],sphere,"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(folder / "pbd" / "contact.csv"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "hybrid" / "contact.csv"));
+
+  nlohmann::json j = sphere_on_cube();
+  j["models"] = {{{"model", "embedded"}}};
+  const auto refused = run_experiment(load_experiment(write("sphere-embedded.json", j)), o);
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_FALSE(refused[0].ok);
+  EXPECT_NE(refused[0].error.find("model 'embedded' does not take sphere tools (tools[0])"), std::string::npos)
+      << refused[0].error;
+  EXPECT_EQ(refused[0].error.find('\n'), std::string::npos);
+}
+
+TEST_F(SphereScenarios, BadSpheresAreOneLineErrorsNamingFileAndKey) {
+  nlohmann::json j = sphere_on_cube();
+  j["tools"][0]["radius"] = 0;
+  expect_error(j, "tools[0].radius: 0 is out of range");
+  j = sphere_on_cube();
+  j["tools"][0]["radius"] = -0.01;
+  expect_error(j, "tools[0].radius: -0.01 is out of range");
+  j = sphere_on_cube();
+  j["tools"][0]["path"] = {{0, 0, 0, 0.13}, {0, 0, 0, 0.12}};
+  expect_error(j, "tools[0].path[1]: frames must increase (0 after 0)");
+  j = sphere_on_cube();
+  j["tools"][0]["path"] = {{0, 0, 0, "NaN"}};
+  expect_error(j, "tools[0].path[0]: must hold finite numbers");
+  j = sphere_on_cube();
+  j["tools"][0].erase("path");
+  expect_error(j, "tools[0].path: a sphere needs the path of its centre");
+  j = sphere_on_cube();
+  j["tools"][0]["point"] = {0, 0, 0.1};
+  expect_error(j, "tools[0]");
+  // Starting inside the body: an error before any case runs.
+  j = sphere_on_cube();
+  j["tools"][0]["path"] = {{0, 0, 0, 0.11}};
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.mesh_cache_dir = "";
+  const auto outcomes = run_experiment(load_experiment(write("inside.json", j)), o);
+  ASSERT_FALSE(outcomes.empty());
+  EXPECT_FALSE(outcomes[0].ok);
+  EXPECT_EQ(outcomes[0].error.rfind("inside.json: tools[0] (sphere): at its first centre (0, 0, 0.11) surface vertex", 0),
+            0u)
+      << outcomes[0].error;
+  EXPECT_EQ(outcomes[0].error.find('\n'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tb

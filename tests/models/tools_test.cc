@@ -112,6 +112,7 @@ TEST(Tools, ReactionsBalanceTheAppliedLoadsInEveryModelThatMeasuresThem) {
     if (info.reactions.empty() || !info.takes(ToolKind::Grasp) || !info.takes(ToolKind::BondedPlate) ||
         !info.takes(LoadKind::BodyForce))
       continue;
+    if (info.reactions.rfind("a sphere only", 0) == 0) continue;  // pbd: measures a sphere's force alone
     nlohmann::json given = nlohmann::json::object();
     for (const ParameterSpec& spec : info.parameters)
       if (info.dynamic && spec.name == "time_step") given["time_step"] = 0.5;
@@ -306,7 +307,7 @@ TEST(Tools, ModelsWithoutToolsRefuseThemBeforeSetup) {
     FAIL() << "pbd has no sliding plate";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "model 'pbd' does not take sliding_plate tools (tools[2]); it takes grasp, bonded_plate");
+              "model 'pbd' does not take sliding_plate tools (tools[2]); it takes grasp, bonded_plate, sphere");
   }
   EXPECT_THROW(check_supported(find_model("condensed"), c), std::invalid_argument);
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 
@@ -244,7 +245,98 @@ void Solver::step(const std::vector<Eigen::Vector3d>& load_values, const std::ve
   // Sub-stepping (Macklin et al. 2019): n steps of h = time_step / n. With n = 1,
   // h is time_step exactly and the frame is the paper's step, bit for bit.
   const double h = s_.time_step / s_.substeps;
+  const size_t spheres = sphere_force_.size();
+  if (spheres > 0) {
+    // The vertices each sphere may reach this step: those whose rest position is within
+    // r + margin of its centre, the margin the largest displacement from rest so far
+    // plus twice the largest speed times the step, and a tenth of r (the candidates
+    // are tested one by one in every sweep; the others are not).
+    double vmax = 0;
+    for (Eigen::Index v = 0; v < v_.rows(); ++v) vmax = std::max(vmax, v_.row(v).squaredNorm());
+    const double margin = max_displacement_ + 2 * std::sqrt(vmax) * s_.time_step;
+    for (size_t k = 0; k < spheres; ++k) {
+      const double r = sphere_radius_(static_cast<Eigen::Index>(k));
+      grid_->query(sphere_centre_.row(static_cast<Eigen::Index>(k)).transpose(), r + margin + 0.1 * r,
+                   sphere_candidates_[k]);
+      sphere_force_[k].setZero();
+    }
+  }
   for (int k = 0; k < s_.substeps; ++k) substep(h, load_values, pinned, pinned_positions);
+  if (spheres > 0) {
+    max_displacement_ = 0;
+    for (Eigen::Index v = 0; v < x_.rows(); ++v)
+      max_displacement_ = std::max(max_displacement_, (x_.row(v) - rest_.row(v)).squaredNorm());
+    max_displacement_ = std::sqrt(max_displacement_);
+    for (size_t k = 0; k < spheres; ++k) {
+      sphere_force_[k] /= -(h * h * s_.substeps);  // the surface's force on the sphere, averaged over the sub-steps
+      const Eigen::Vector3d c = sphere_centre_.row(static_cast<Eigen::Index>(k)).transpose();
+      const double r = sphere_radius_(static_cast<Eigen::Index>(k));
+      // The contacts at the end of the frame: the tested vertices on the sphere (within
+      // kSphereContactTolerance r of its surface) or inside it, whether or not the last
+      // sweep moved them (docs/equations.md, "Contact with a rigid sphere").
+      double depth = 0;
+      sphere_contact_[k].clear();
+      for (int v : sphere_candidates_[k]) {
+        const double gap = (x_.row(v).transpose() - c).norm() - r;
+        depth = std::max(depth, -gap);
+        if (gap <= kSphereContactTolerance * r) sphere_contact_[k].push_back(v);
+      }
+      std::sort(sphere_contact_[k].begin(), sphere_contact_[k].end());
+      sphere_depth_[k] = depth;
+    }
+  }
+}
+
+void Solver::set_spheres(const Points& centres, const Eigen::VectorXd& radii) {
+  const size_t n = static_cast<size_t>(centres.rows());
+  if (radii.size() != centres.rows() || centres.cols() != 3)
+    throw std::invalid_argument("PBD solver: one radius per sphere centre");
+  for (Eigen::Index k = 0; k < radii.size(); ++k)
+    if (!(std::isfinite(radii(k)) && radii(k) > 0) || !centres.row(k).allFinite())
+      throw std::invalid_argument("PBD solver: a sphere needs a finite centre and a positive radius");
+  if (sphere_force_.size() != n) {  // set-up: allocate for every vertex once
+    if (!grid_) {
+      // Cells of about the mean edge length of a surface of this size: a few points a cell.
+      const double diagonal = (rest_.colwise().maxCoeff() - rest_.colwise().minCoeff()).norm();
+      grid_ = std::make_unique<PointGrid>(rest_, std::max(1e-12, diagonal / std::cbrt(std::max<double>(rest_.rows(), 1))));
+    }
+    sphere_centre_.resize(static_cast<Eigen::Index>(n), 3);
+    sphere_radius_.resize(static_cast<Eigen::Index>(n));
+    sphere_candidates_.assign(n, {});
+    sphere_contact_.assign(n, {});
+    for (size_t k = 0; k < n; ++k) {
+      sphere_candidates_[k].reserve(static_cast<size_t>(rest_.rows()));
+      sphere_contact_[k].reserve(static_cast<size_t>(rest_.rows()));
+    }
+    sphere_force_.assign(n, Eigen::Vector3d::Zero());
+    sphere_dp_.assign(n, Eigen::Vector3d::Zero());
+    sphere_depth_.assign(n, 0);
+  }
+  sphere_centre_ = centres;
+  sphere_radius_ = radii;
+}
+
+template <class S>
+void Solver::project_spheres(S* rows) {
+  // C(p) = |p - c| - r >= 0 (Mueller et al. 2007, sec. 3.5): a vertex inside is moved
+  // to the nearest point of the sphere, along the normal, by its whole violation
+  // (a collision constraint has stiffness 1); a fixed vertex (w = 0) is not moved.
+  for (size_t k = 0; k < sphere_force_.size(); ++k) {
+    const Eigen::Vector3d c = sphere_centre_.row(static_cast<Eigen::Index>(k)).transpose();
+    const double r = sphere_radius_(static_cast<Eigen::Index>(k));
+    for (int v : sphere_candidates_[k]) {
+      if (w_(v) == 0) continue;
+      S* q = rows + row(v) * kPositionStride;
+      const Eigen::Vector3d p(q[0], q[1], q[2]);
+      const Eigen::Vector3d d = p - c;
+      const double len = d.norm();
+      if (len >= r || len == 0) continue;
+      const Eigen::Vector3d to = c + d * (r / len);
+      for (int i = 0; i < 3; ++i) q[i] = static_cast<S>(to(i));
+      const Eigen::Vector3d moved = Eigen::Vector3d(q[0], q[1], q[2]) - p;
+      sphere_dp_[k] += moved / w_(v);  // mass x correction
+    }
+  }
 }
 
 void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
@@ -285,7 +377,27 @@ void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values,
   // Sweeping alternately forward and backward (symmetric Gauss-Seidel) removes
   // most of the bias a fixed constraint order leaves in the steady state.
   const ProjectionOptions options{s_.bending_angle};
-  if (single) {
+  if (!sphere_force_.empty()) {
+    // With spheres: each sweep, then each sphere's collision projection (the same
+    // symmetric order as below, one sweep at a time on this thread).
+    for (Eigen::Vector3d& dp : sphere_dp_) dp.setZero();
+    const bool xpbd = s_.constraint_solve == ConstraintSolve::Xpbd;
+    if (xpbd && s_.kernels == Kernels::Reference)
+      for (Eigen::VectorXd& lambda : lambda_) lambda.setZero();
+    for (int it = 0; it < s_.iterations; ++it) {
+      if (single) {
+        batches_.sweep(q_.data(), it % 2 == 1, k_, options, isa_);
+        project_spheres(q_.data());
+      } else if (s_.kernels == Kernels::Simd) {
+        batches_.sweep(p_.data(), it % 2 == 1, k_, options, isa_);
+        project_spheres(p_.data());
+      } else {
+        scalar_sweep(it % 2 == 1, xpbd);
+        project_spheres(p_.data());
+      }
+    }
+    for (size_t k = 0; k < sphere_force_.size(); ++k) sphere_force_[k] += sphere_dp_[k];
+  } else if (single) {
     batches_.project(q_.data(), s_.iterations, k_, options, isa_, team_.get());
   } else if (s_.kernels == Kernels::Simd) {
     batches_.project(p_.data(), s_.iterations, k_, options, isa_, team_.get());

@@ -21,6 +21,7 @@
 #include "material.h"
 #include "mesh_types.h"
 #include "parameters.h"
+#include "point_grid.h"
 #include "thread_team.h"
 
 namespace tb::pbd {
@@ -119,6 +120,31 @@ class Solver {
   void step(const std::vector<Eigen::Vector3d>& load_values, const std::vector<int>& pinned,
             const Points& pinned_positions);
 
+  /// Rigid spheres the surface may not enter during the following step()s: a
+  /// collision constraint C(p) = |p - c| - r >= 0 per surface vertex (Mueller et al.
+  /// 2007, "Position based dynamics", sec. 3.5), projected after every Gauss-Seidel
+  /// sweep on the vertices a grid query returns near each sphere (docs/equations.md,
+  /// "Contact with a rigid sphere"). With a sphere the sweeps run on this thread, one
+  /// at a time. No allocation once the number of spheres is set.
+  ///   centres  #S by 3 (m), radii #S (m)
+  void set_spheres(const Points& centres, const Eigen::VectorXd& radii);
+  /// After step(), per sphere: the force the surface exerts on it (N), -sum_v m_v
+  /// dp_v / h^2 over the vertices v it moved, dp_v the vertex's total collision
+  /// correction in a sub-step of h, averaged over the frame's sub-steps: the force
+  /// that would change the vertices' momentum by what the projection changed it.
+  const std::vector<Eigen::Vector3d>& sphere_forces() const { return sphere_force_; }
+  /// A vertex is in contact with a sphere of radius r at the end of a frame when it
+  /// is within this fraction of r of the sphere's surface, or inside it.
+  static constexpr double kSphereContactTolerance = 0.01;
+  /// After step(), per sphere: the vertices in contact at the end of the frame (those
+  /// the grid query returned within kSphereContactTolerance r of its surface or
+  /// inside; not only those the last sweep moved), ascending, and how deep the
+  /// deepest vertex is inside it (m).
+  const std::vector<std::vector<int>>& sphere_contacts() const { return sphere_contact_; }
+  const std::vector<double>& sphere_penetration() const { return sphere_depth_; }
+  /// The vertices the last step() tested against each sphere (the grid query).
+  const std::vector<std::vector<int>>& sphere_candidates() const { return sphere_candidates_; }
+
   const Points& positions() const { return x_; }
   const Points& rest_positions() const { return rest_; }
   const ConstraintSet& constraints() const { return c_; }
@@ -170,6 +196,20 @@ class Solver {
   // (h the sub-step), and the multipliers.
   std::vector<Eigen::VectorXd> alpha_, alpha_tilde_, lambda_;
   double thickness_ = 0;
+  // Spheres (set_spheres): a grid of the rest positions (built on the first call),
+  // the largest displacement from rest after the last step (widens the query), and
+  // per sphere its candidates, contacts, force and depth.
+  Points sphere_centre_;
+  Eigen::VectorXd sphere_radius_;
+  std::unique_ptr<PointGrid> grid_;
+  double max_displacement_ = 0;
+  std::vector<std::vector<int>> sphere_candidates_, sphere_contact_;
+  std::vector<Eigen::Vector3d> sphere_force_, sphere_dp_;
+  std::vector<double> sphere_depth_;
+  /// Every sphere's projection on its candidates (positions S: double or float
+  /// rows); `dp` accumulates each sphere's total correction x mass.
+  template <class S>
+  void project_spheres(S* rows);
   /// The position of the kind named `kind` in c_ (std::invalid_argument if none).
   size_t kind_index(const std::string& kind) const;
   /// c_ and w_ on rows of p_ (row_of_), ordered and packed in `width` lanes.

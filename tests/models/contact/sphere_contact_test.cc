@@ -1,0 +1,397 @@
+// The rigid frictionless sphere (unilateral contact, docs/equations.md "Contact with a
+// rigid sphere"): Hertz's indentation force against the linear FEM's active set under
+// refinement, no vertex inside the sphere (FEM, PBD), release, equilibrium, models
+// that cannot take it, and a sphere on the liver, a torus and an L-block through every
+// model that declares it.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "elastic_body.h"
+#include "elastic_solve.h"
+#include "hybrid_builder.h"
+#include "model.h"
+#include "shapes.h"
+#include "sphere_contact.h"
+#include "test_support.h"
+#include "tool_placement.h"
+
+namespace tb {
+namespace {
+
+/// 0, h0, 2 h0, ... uniform up to `core`, then growing by q per cell up to `length`
+/// (the last cell cut to fit).
+std::vector<double> graded(double h0, double core, double q, double length) {
+  std::vector<double> x = {0};
+  double h = h0;
+  while (x.back() + h < length - 1e-12 * length) {
+    x.push_back(x.back() + h);
+    if (x.back() >= core - 1e-12) h *= q;
+  }
+  if (length - x.back() < 0.5 * h / q && x.size() > 1) x.back() = length;
+  else x.push_back(length);
+  return x;
+}
+
+/// A quarter block [0, L]^2 x [0, L] graded towards the top corner (0, 0, L): a tensor
+/// grid of hexahedra each split in 6 tets (the Kuhn split, conforming), its
+/// boundary triangles as the fine surface. Cells of side h0 up to `core` from the
+/// corner in x and y and core / 2 in depth, then growing by q.
+HybridMesh quarter_block(double h0, double core, double q, double L) {
+  const std::vector<double> x = graded(h0, core, q, L), y = x;
+  std::vector<double> z = graded(h0, core / 2, q, L);
+  for (double& c : z) c = L - c;
+  std::reverse(z.begin(), z.end());
+  const int nx = static_cast<int>(x.size()), ny = static_cast<int>(y.size()), nz = static_cast<int>(z.size());
+  HybridMesh h;
+  h.fine_volume.V.resize(nx * ny * nz, 3);
+  auto id = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) h.fine_volume.V.row(id(i, j, k)) << x[i], y[j], z[k];
+  std::vector<std::array<int, 4>> tets;
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int k = 0; k + 1 < nz; ++k)
+    for (int j = 0; j + 1 < ny; ++j)
+      for (int i = 0; i + 1 < nx; ++i)
+        for (const auto& p : perms) {
+          std::array<int, 3> c = {i, j, k};
+          std::array<int, 4> t;
+          t[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++c[static_cast<size_t>(p[s])];
+            t[static_cast<size_t>(s) + 1] = id(c[0], c[1], c[2]);
+          }
+          const Eigen::Vector3d a = h.fine_volume.V.row(t[0]), b = h.fine_volume.V.row(t[1]),
+                                cc = h.fine_volume.V.row(t[2]), d = h.fine_volume.V.row(t[3]);
+          if ((b - a).cross(cc - a).dot(d - a) < 0) std::swap(t[2], t[3]);
+          tets.push_back(t);
+        }
+  h.fine_volume.T.resize(static_cast<Eigen::Index>(tets.size()), 4);
+  for (size_t t = 0; t < tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) h.fine_volume.T(static_cast<Eigen::Index>(t), k) = tets[t][static_cast<size_t>(k)];
+  // Boundary faces (in one tet), oriented away from the tet's fourth node.
+  std::map<std::array<int, 3>, std::pair<int, std::array<int, 4>>> faces;
+  for (const auto& t : tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f;
+      int n = 0;
+      for (int j = 0; j < 4; ++j)
+        if (j != skip) f[static_cast<size_t>(n++)] = t[static_cast<size_t>(j)];
+      std::array<int, 3> key = f;
+      std::sort(key.begin(), key.end());
+      auto& e = faces[key];
+      ++e.first;
+      e.second = {f[0], f[1], f[2], t[static_cast<size_t>(skip)]};
+    }
+  std::map<int, int> surface_of;
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& [key, e] : faces) {
+    if (e.first != 1) continue;
+    std::array<int, 3> f = {e.second[0], e.second[1], e.second[2]};
+    const Eigen::Vector3d a = h.fine_volume.V.row(f[0]), b = h.fine_volume.V.row(f[1]), c = h.fine_volume.V.row(f[2]),
+                          o = h.fine_volume.V.row(e.second[3]);
+    if ((b - a).cross(c - a).dot(o - a) > 0) std::swap(f[1], f[2]);
+    for (int& v : f) {
+      auto it = surface_of.find(v);
+      if (it == surface_of.end()) it = surface_of.emplace(v, static_cast<int>(surface_of.size())).first;
+      v = it->second;
+    }
+    tris.push_back(f);
+  }
+  h.fine_surface.V.resize(static_cast<Eigen::Index>(surface_of.size()), 3);
+  h.fine_surface_to_volume.resize(surface_of.size());
+  for (const auto& [node, v] : surface_of) {
+    h.fine_surface.V.row(v) = h.fine_volume.V.row(node);
+    h.fine_surface_to_volume[static_cast<size_t>(v)] = node;
+  }
+  h.fine_surface.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) h.fine_surface.F(static_cast<Eigen::Index>(t), k) = tris[t][static_cast<size_t>(k)];
+  return h;
+}
+
+struct Indentation {
+  double force = 0, hertz = 0, seconds = 0, area = 0;
+  int nodes = 0, contacts = 0, candidates = 0, solves = 0;
+  Eigen::Vector3d sphere = Eigen::Vector3d::Zero(), support = Eigen::Vector3d::Zero();
+  double penetration = 0;
+};
+
+/// A mesh level of the indentation: the smallest cell h0 (uniform up to `core` from
+/// the axis, core / 2 deep), growing by q beyond, on a quarter block of side L.
+struct Level {
+  double h0, core, q, L;
+};
+
+/// The indentation's candidates: the nodes within 0.01 R of the sphere at the
+/// solution without contact (Hertz's contact radius sqrt(R d) lies inside the
+/// penetrated disc sqrt(2 R d)), not the default 0.1 R + 2 d, which holds 5 times as
+/// many nodes; a node missed would join (and is counted in `rebuilds`).
+constexpr double kMargin = 0.01, kDepthFactor = 0;
+
+/// The quarter block of side L (the full block 2 L wide, L deep), bottom
+/// clamped, the planes x = 0 and y = 0 symmetry planes (the normal component held
+/// at 0; both on their common axis), a sphere of radius R pressed d into the top at
+/// the corner (0, 0, L); E = 1. The body and the contact solve the fem model uses
+/// (ElasticBody, the direct solve, SphereContact), set up here for the symmetry
+/// groups the scenario vocabulary has no tool for.
+Indentation indent(const Level& level, double d, double nu) {
+  const double R = 1, L = level.L, E = 1;
+  const HybridMesh h = quarter_block(level.h0, level.core, level.q, L);
+  const Points& X = h.fine_volume.V;
+  const double eps = 1e-9;
+  std::vector<char> clamped(static_cast<size_t>(X.rows()), 0);
+  PrescribedGroup px, py, pxy;
+  px.components[1] = px.components[2] = false;
+  py.components[0] = py.components[2] = false;
+  pxy.components[2] = false;
+  for (Eigen::Index n = 0; n < X.rows(); ++n) {
+    const bool bottom = X(n, 2) < eps, on_x = X(n, 0) < eps, on_y = X(n, 1) < eps;
+    if (bottom) clamped[static_cast<size_t>(n)] = 1;
+    else if (on_x && on_y) pxy.nodes.push_back(static_cast<int>(n));
+    else if (on_x) px.nodes.push_back(static_cast<int>(n));
+    else if (on_y) py.nodes.push_back(static_cast<int>(n));
+  }
+  Material m;
+  m.youngs_modulus = E;
+  m.poisson_ratio = nu;
+  const auto start = std::chrono::steady_clock::now();
+  ElasticBody body(h.fine_volume, m, clamped, {px, py, pxy});
+  std::unique_ptr<ElasticSolve> solve = make_direct_solve(body);
+  SphereContact contact(body, *solve, h.fine_surface_to_volume);
+  contact.set_candidate_margin(kMargin, kDepthFactor);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(body.dofs());
+  Eigen::MatrixX3d centre(1, 3);
+  centre << 0, 0, L + R - d;
+  contact.solve(centre, Eigen::VectorXd::Constant(1, R), u);
+  Indentation out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.sphere = contact.forces()[0];
+  out.force = 4 * out.sphere.z();  // the whole sphere's (four quarters); the tissue pushes it up, +z
+  const double Estar = E / (1 - nu * nu);
+  out.hertz = 4.0 / 3.0 * Estar * std::sqrt(R) * std::pow(d, 1.5);
+  out.nodes = static_cast<int>(X.rows());
+  out.contacts = static_cast<int>(contact.contact_vertices()[0].size());
+  out.area = ContactArea(h.fine_surface).area(contact.contact_vertices()[0]);
+  out.penetration = contact.penetration()[0];
+  out.candidates = contact.report()["largest_candidate_count"].get<int>();
+  out.solves = contact.report()["flexibility_solves"].get<int>();
+  // The reactions of the support and the symmetry planes, the contact forces external.
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(body.dofs());
+  for (const auto& [node, force] : contact.node_forces()) f.segment<3>(3 * node) += force;
+  std::vector<Eigen::Vector3d> groups(3);
+  Eigen::Vector3d support;
+  body.reactions(u, f, groups, support);
+  out.support = support + groups[0] + groups[1] + groups[2];
+  return out;
+}
+
+/// Hertz (1882): F = 4/3 E* R^(1/2) d^(3/2), E* = E / (1 - nu^2), a rigid sphere on an
+/// elastic half-space. Two meshes of the quarter block of side 20 R (smallest cell a/4
+/// and a/8 up to 1.25 a from the axis, a = sqrt(R d) the contact radius, growing by
+/// 1.3 beyond). P1 tets are too stiff, so the force lies above Hertz's and falls
+/// towards it; the clamped bottom 20 R down adds about 1 % (Boussinesq), the exact
+/// sphere (Sneddon 1965) takes 0.45 % off. Measured (docs/equations.md, with the
+/// finer levels of DISABLED_HertzStudy): +7.44 % and +5.72 %; the direct solve is
+/// deterministic, so the bounds leave 0.25 of a percentage point for rounding
+/// elsewhere. Not within 5 % at these levels: docs/equations.md says which level is.
+TEST(SphereContact, HertzIndentationForceConvergesUnderRefinement) {
+  const double d = 0.04, a = std::sqrt(d);
+  const Indentation coarse = indent({a / 4, 1.25 * a, 1.3, 20}, d, 0.3);
+  const Indentation fine = indent({a / 8, 1.25 * a, 1.3, 20}, d, 0.3);
+  for (const Indentation* i : {&coarse, &fine}) {
+    RecordProperty("nodes_" + std::to_string(i->nodes), ::testing::PrintToString(i->force / i->hertz - 1));
+    std::printf("Hertz: %d nodes, F = %.6g (Hertz %.6g, error %+.4f), %d in contact, area %.4g (pi a^2 / 4 = %.4g), "
+                "%.2f s\n",
+                i->nodes, i->force, i->hertz, i->force / i->hertz - 1, i->contacts, i->area, M_PI * d / 4, i->seconds);
+    EXPECT_LT(i->penetration, 1e-6) << "no vertex inside the sphere";
+    EXPECT_GT(i->force, i->hertz) << "P1 tets and the finite block both stiffen";
+  }
+  EXPECT_LT(coarse.force / coarse.hertz - 1, 0.0744 + 0.0025);
+  EXPECT_LT(fine.force / fine.hertz - 1, 0.0572 + 0.0025);
+  EXPECT_LT(fine.force, coarse.force) << "the error falls with refinement";
+  // Equilibrium: the sphere's reaction and the support's (and the symmetry planes') sum to zero.
+  EXPECT_LT((fine.sphere + fine.support).norm(), 1e-9 * fine.sphere.norm());
+}
+
+/// The indentation at the mesh levels of TB_HERTZ_LEVELS ("n,core,q,L;..." : smallest
+/// cell a / n, uniform up to core * a, growth q, quarter side L in R), one line each;
+/// outside CTest (DISABLED_), the finer levels take minutes. docs/equations.md
+/// ("Contact with a rigid sphere") gives the command and the numbers.
+TEST(SphereContact, DISABLED_HertzStudy) {
+  const double d = 0.04, a = std::sqrt(d);
+  const char* env = std::getenv("TB_HERTZ_LEVELS");
+  std::string levels = env ? env : "4,1.25,1.3,5;8,1.25,1.3,5";
+  std::stringstream list(levels);
+  std::string item;
+  while (std::getline(list, item, ';')) {
+    double n = 0, core = 0, q = 0, L = 0;
+    ASSERT_EQ(std::sscanf(item.c_str(), "%lf,%lf,%lf,%lf", &n, &core, &q, &L), 4) << item;
+    const Indentation i = indent({a / n, core * a, q, L}, d, 0.3);
+    std::printf("HERTZ a/%g core %.2fa q %.2f L %gR: %d nodes, F = %.6g (Hertz %.6g, error %+.4f), %d in contact, "
+                "area %.4g, depth %.2g, equilibrium %.1e, %d candidates, %d solves, %.1f s\n",
+                n, core, q, L, i.nodes, i.force, i.hertz, i.force / i.hertz - 1, i.contacts, i.area, i.penetration,
+                (i.sphere + i.support).norm() / i.sphere.norm(), i.candidates, i.solves, i.seconds);
+    std::fflush(stdout);
+  }
+}
+
+const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
+
+/// The sphere pressed into the cube's top then withdrawn: contact while pressed, none
+/// after, the reaction back to zero, and no surface vertex inside it (FEM: 1e-9 of
+/// the radius; PBD and the hybrid: 1e-6 m, the projection's last sweep).
+TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
+  const double R = 0.03;
+  const Eigen::Vector3d above(0, 0, 0.1 + R), pressed(0, 0, 0.1 + R - 0.01), away(0, 0, 0.1 + R + 0.02);
+  int models = 0;
+  for (const ModelInfo& info : registered_models()) {
+    if (!info.takes(ToolKind::Sphere)) continue;
+    ++models;
+    Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, {}, {Tool::sphere(above, R, "tools[0]")}},
+              resolve_parameters(info.parameters, {}, info.name), Points()};
+    auto m = info.create();
+    m->setup(p);
+    const int frames = info.dynamic ? 300 : 1;
+    for (int f = 0; f < frames; ++f) m->step(FrameLoads{{}, {pressed}});
+    const ToolContact on = (*m->tool_contacts())[0];
+    const Eigen::Vector3d pushed = (*m->reaction_forces())[0];
+    EXPECT_GT(on.points, 0) << info.name;
+    // The contact set as defined (docs/equations.md): PBD and the hybrid, every vertex
+    // within 0.01 R of the sphere's surface or inside it at the end of the frame; the
+    // FEM, the active nodes, each on the sphere to 1e-6 R (and none inside).
+    {
+      const Displacements& u = m->surface_displacement();
+      int on_sphere = 0, within = 0;
+      for (Eigen::Index v = 0; v < u.rows(); ++v) {
+        const double gap = (cube().fine_surface.V.row(v) + u.row(v) - pressed.transpose()).norm() - R;
+        on_sphere += gap <= 1e-6 * R;  // an active node sits within 1e-6 r above the sphere
+        within += gap <= 0.01 * R;
+      }
+      if (info.name == "fem")
+        EXPECT_LE(on.points, on_sphere) << info.name;
+      else
+        EXPECT_EQ(on.points, within) << info.name;
+    }
+    // The area: the contact vertices' vertex areas, of the order of the patch the
+    // sphere pressed 1 cm cuts from the top (2 pi R d, the cap's area; Hertz's pi R d).
+    const double cap = 2 * M_PI * R * 0.01;
+    RecordProperty(info.name + "_area_over_cap", ::testing::PrintToString(on.area / cap));
+    std::printf("%s: %d in contact, area %.4g m^2 = %.3f of the cap 2 pi R d\n", info.name.c_str(), on.points, on.area,
+                on.area / cap);
+    // Measured (cube-pull mesh): fem 0.50, pbd 0.28, hybrid 0.87 of the cap; the bounds
+    // leave a factor of about 3 below and 2 above.
+    EXPECT_GT(on.area, 0.1 * cap) << info.name;
+    EXPECT_LT(on.area, 2 * cap) << info.name;
+    EXPECT_GT(pushed.z(), 0) << info.name << ": the tissue pushes the sphere up";
+    // The hybrid's control points follow the coarse FEM, which does not feel the sphere.
+    const bool projects_all = info.name != "hybrid";
+    const double tolerance = info.dynamic ? 1e-6 : 1e-9 * R;
+    if (projects_all) {
+      EXPECT_LE(on.max_penetration, tolerance) << info.name;
+    }
+    const Displacements& u = m->surface_displacement();
+    for (Eigen::Index v = 0; v < u.rows() && projects_all; ++v)
+      EXPECT_GE((cube().fine_surface.V.row(v) + u.row(v) - pressed.transpose()).norm(), R - tolerance)
+          << info.name << " vertex " << v;
+    EXPECT_LT(u.col(2).minCoeff(), -0.005) << info.name << ": the top is pressed down";
+    if (info.name == "fem") {  // equilibrium of the static FEM
+      const auto& r = *m->reaction_forces();
+      EXPECT_LT((r[0] + r[1]).norm(), 1e-9 * r[0].norm()) << info.name;
+    }
+    for (int f = 0; f < frames; ++f) m->step(FrameLoads{{}, {away}});
+    const ToolContact off = (*m->tool_contacts())[0];
+    EXPECT_EQ(off.points, 0) << info.name;
+    EXPECT_EQ(off.area, 0) << info.name;
+    EXPECT_EQ((*m->reaction_forces())[0].norm(), 0) << info.name;
+  }
+  EXPECT_EQ(models, 3) << "fem, pbd, hybrid";
+}
+
+TEST(SphereContact, ModelsWithoutItRefuseItBeforeSetup) {
+  const LoadCase c{testing::kCubeBottom, {}, {Tool::sphere({0, 0, 0.2}, 0.05, "tools[0]")}};
+  for (const char* name : {"condensed", "embedded", "fem_distributed"}) {
+    try {
+      check_supported(find_model(name), c);
+      ADD_FAILURE() << name << " took a sphere";
+    } catch (const std::invalid_argument& e) {
+      const std::string w = e.what();
+      EXPECT_EQ(w.rfind(std::string("model '") + name + "' does not take sphere tools (tools[0]); it takes ", 0), 0u)
+          << w;
+      EXPECT_EQ(w.find('\n'), std::string::npos);
+    }
+  }
+}
+
+TEST(SphereContact, BadSpheresAreOneLineErrorsNamingTheKey) {
+  const SurfaceMesh& s = cube().fine_surface;
+  auto error = [&](const Tool& t) {
+    try {
+      tool_vertices(t, s, testing::kCubeBottom);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string e = error(Tool::sphere({0, 0, 0.12}, 0.05, "tools[1]"));  // 0.03 m deep into the top
+  EXPECT_EQ(e.rfind("tools[1] (sphere): at its first centre (0, 0, 0.12) surface vertex", 0), 0u) << e;
+  e = error(Tool::sphere({0, 0, 0.05}, 0.01, "tools[0]"));  // wholly inside
+  EXPECT_NE(e.find("is inside the body"), std::string::npos) << e;
+  e = error(Tool::sphere({0, 0, 0.2}, 0, "tools[0]"));
+  EXPECT_NE(e.find("tools[0] (sphere): radius 0"), std::string::npos) << e;
+  EXPECT_EQ(error(Tool::sphere({0, 0, 0.1 + 0.05}, 0.05)), "no error") << "touching at the start is allowed";
+}
+
+/// A sphere pressed into the liver, a torus and an L-block (from above, onto the
+/// highest vertex) through every model that takes one: each runs, stays finite,
+/// pushes the surface, and no vertex is left inside (the FEM's and PBD's tolerance).
+TEST(SphereContact, ASphereOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesOne) {
+  HybridBuildOptions o;
+  o.fine_tetgen.radius_edge_ratio = 1.414;
+  o.target_coarse_nodes = 120;
+  static const HybridMesh torus = build_hybrid_from_surface(make_shape_surface({"torus", 12}), o, "torus");
+  static const HybridMesh l_block = build_hybrid_from_surface(make_shape_surface({"l_block", 12}), o, "l_block");
+  const std::vector<std::pair<std::string, const HybridMesh*>> bodies = {
+      {"liver", &testing::scenario_mesh("liver-pull")}, {"torus", &torus}, {"l_block", &l_block}};
+  for (const auto& [name, mesh] : bodies) {
+    const Points& V = mesh->fine_surface.V;
+    const double zmin = V.col(2).minCoeff(), zmax = V.col(2).maxCoeff();
+    const SupportBox support{{-1, -1, -1}, {1, 1, zmin + 0.1 * (zmax - zmin)}};
+    Eigen::Index top = 0;
+    V.col(2).maxCoeff(&top);
+    const double R = 0.02;
+    const Eigen::Vector3d start = V.row(top).transpose() + Eigen::Vector3d(0, 0, R + 1e-4);
+    const Tool sphere = Tool::sphere(start, R);
+    for (const ModelInfo& info : registered_models()) {
+      if (!info.takes(ToolKind::Sphere)) continue;
+      Problem p{mesh, Material{}, LoadCase{support, {}, {sphere}}, resolve_parameters(info.parameters, {}, info.name),
+                Points()};
+      auto m = info.create();
+      m->setup(p);
+      const int frames = info.dynamic ? 200 : 5;
+      for (int f = 0; f < frames; ++f)
+        m->step(FrameLoads{{}, {start - Eigen::Vector3d(0, 0, 0.005 * std::min(1.0, (f + 1.0) / (frames / 2)))}});
+      const Displacements& u = m->surface_displacement();
+      ASSERT_TRUE(u.allFinite()) << name << " " << info.name;
+      EXPECT_LT(u(top, 2), -0.001) << name << " " << info.name << ": the top vertex is pushed down";
+      const ToolContact c = (*m->tool_contacts())[0];
+      EXPECT_GT(c.points, 0) << name << " " << info.name;
+      if (info.name != "hybrid") {  // the hybrid's control points follow the coarse FEM, not the sphere
+        EXPECT_LE(c.max_penetration, info.dynamic ? 1e-6 : 1e-9 * R) << name << " " << info.name;
+      }
+      RecordProperty(name + "_" + info.name + "_penetration", ::testing::PrintToString(c.max_penetration));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tb
