@@ -9,6 +9,7 @@
 #include "load_placement.h"
 #include "pbd_solver.h"
 #include "precomputed_response.h"
+#include "surface_spheres.h"
 #include "tool_placement.h"
 
 namespace tb {
@@ -115,19 +116,7 @@ class HybridModel : public Model {
     u_ = Displacements::Zero(s.V.rows(), 3);
     // Spheres act on the PBD surface only (pbd_solver.h: a collision constraint per
     // vertex); the coarse FEM does not feel them, so a control point it pins is not moved.
-    spheres_.clear();
-    for (size_t t = 0; t < p.load_case.tools.size(); ++t)
-      if (p.load_case.tools[t].kind == ToolKind::Sphere) spheres_.push_back(t);
-    sphere_centres_ = Points::Zero(static_cast<Eigen::Index>(spheres_.size()), 3);
-    sphere_radii_.resize(static_cast<Eigen::Index>(spheres_.size()));
-    for (size_t k = 0; k < spheres_.size(); ++k) {
-      sphere_centres_.row(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].point.transpose();
-      sphere_radii_(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].radius;
-    }
-    if (!spheres_.empty()) {
-      solver_->set_spheres(sphere_centres_, sphere_radii_);
-      area_ = std::make_unique<ContactArea>(s);
-    }
+    spheres_.setup(p.load_case.tools, *solver_, s);
     contacts_.assign(p.load_case.tools.size(), ToolContact{});
   }
 
@@ -155,22 +144,14 @@ class HybridModel : public Model {
       for (int v : tool_vertices_[t]) pinned_positions_.row(row++) = rest.row(v) + loads.tool_values[t].transpose();
     // Steps 2-5: eq. (31) on the loaded vertex, (32), (33) for control points,
     // projection of the others, (34)-(35).
-    for (size_t k = 0; k < spheres_.size(); ++k)
-      sphere_centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
-    if (!spheres_.empty()) solver_->set_spheres(sphere_centres_, sphere_radii_);
+    spheres_.move(loads, *solver_);
     const auto t2 = Clock::now();
     solver_->step(solver_->loads().empty() ? no_surface_load_values_ : loads.values, pinned_, pinned_positions_);
     const auto t3 = Clock::now();
     u_ = solver_->positions() - rest;
     if (!spheres_.empty() && coarse_) {
       reactions_ = coarse_->reactions();  // the sizes match after the first frame: no allocation
-      for (size_t k = 0; k < spheres_.size(); ++k) {
-        reactions_[spheres_[k]] = solver_->sphere_forces()[k];
-        ToolContact& c = contacts_[spheres_[k]];
-        c.points = static_cast<int>(solver_->sphere_contacts()[k].size());
-        c.area = area_->area(solver_->sphere_contacts()[k]);
-        c.max_penetration = solver_->sphere_penetration()[k];
-      }
+      spheres_.measure(*solver_, reactions_, contacts_);
     }
     const auto t4 = Clock::now();
     phases_[0].ms = Ms(t1 - t0).count();
@@ -206,10 +187,7 @@ class HybridModel : public Model {
 
  private:
   std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}, {phase::kProjection}, {phase::kIntegration}};
-  std::vector<size_t> spheres_;  // the tools that are spheres
-  Points sphere_centres_;
-  Eigen::VectorXd sphere_radii_;
-  std::unique_ptr<ContactArea> area_;
+  SurfaceSpheres spheres_;
   std::vector<Eigen::Vector3d> reactions_;  // the coarse FEM's, with each sphere's PBD force
   std::vector<ToolContact> contacts_;
   bool exact_control_points_ = false;

@@ -5,6 +5,7 @@
 
 #include "load_placement.h"
 #include "pbd_solver.h"
+#include "surface_spheres.h"
 #include "tool_placement.h"
 
 namespace tb {
@@ -20,7 +21,6 @@ class PbdModel : public Model {
     for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
       const Tool& tool = p.load_case.tools[t];
       tool_vertices_.push_back(tool_vertices(tool, s, p.load_case.support));  // none for a sphere
-      if (tool.kind == ToolKind::Sphere) spheres_.push_back(t);
       for (int v : tool_vertices_.back()) {
         fixed[static_cast<size_t>(v)] = 1;
         pinned_.push_back(v);
@@ -36,16 +36,7 @@ class PbdModel : public Model {
                                         pbd::lumped_surface_masses(s, p.material.density)));
     u_ = Displacements::Zero(s.V.rows(), 3);
     // Spheres: a collision constraint per surface vertex near each (pbd_solver.h).
-    sphere_centres_ = Points::Zero(static_cast<Eigen::Index>(spheres_.size()), 3);
-    sphere_radii_.resize(static_cast<Eigen::Index>(spheres_.size()));
-    for (size_t k = 0; k < spheres_.size(); ++k) {
-      sphere_centres_.row(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].point.transpose();
-      sphere_radii_(static_cast<Eigen::Index>(k)) = p.load_case.tools[spheres_[k]].radius;
-    }
-    if (!spheres_.empty()) {
-      solver_->set_spheres(sphere_centres_, sphere_radii_);
-      area_ = std::make_unique<ContactArea>(s);
-    }
+    spheres_.setup(p.load_case.tools, *solver_, s);
     // Only a sphere's force is measured; the other tools' and the support's are NaN.
     reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
     contacts_.assign(p.load_case.tools.size(), ToolContact{});
@@ -56,17 +47,9 @@ class PbdModel : public Model {
     for (size_t t = 0; t < tool_vertices_.size(); ++t)
       for (int v : tool_vertices_[t])
         pinned_positions_.row(row++) = solver_->rest_positions().row(v) + loads.tool_values[t].transpose();
-    for (size_t k = 0; k < spheres_.size(); ++k)
-      sphere_centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
-    if (!spheres_.empty()) solver_->set_spheres(sphere_centres_, sphere_radii_);
+    spheres_.move(loads, *solver_);
     solver_->step(loads.values, pinned_, pinned_positions_);
-    for (size_t k = 0; k < spheres_.size(); ++k) {
-      reactions_[spheres_[k]] = solver_->sphere_forces()[k];
-      ToolContact& c = contacts_[spheres_[k]];
-      c.points = static_cast<int>(solver_->sphere_contacts()[k].size());
-      c.area = area_->area(solver_->sphere_contacts()[k]);
-      c.max_penetration = solver_->sphere_penetration()[k];
-    }
+    spheres_.measure(*solver_, reactions_, contacts_);
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
     const double rest_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -90,10 +73,7 @@ class PbdModel : public Model {
   std::vector<std::vector<int>> tool_vertices_;  // per tool: the surface vertices it pins
   std::vector<int> pinned_;                      // every tool's, in tool order
   Points pinned_positions_;
-  std::vector<size_t> spheres_;  // the tools that are spheres
-  Points sphere_centres_;
-  Eigen::VectorXd sphere_radii_;
-  std::unique_ptr<ContactArea> area_;
+  SurfaceSpheres spheres_;
   std::vector<Eigen::Vector3d> reactions_;  // a sphere's force; NaN for what is not measured
   std::vector<ToolContact> contacts_;
 };
