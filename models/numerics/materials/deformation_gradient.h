@@ -63,6 +63,20 @@ inline Matrix9d determinant_hessian(const Eigen::Matrix3d& F) {
   return H;
 }
 
+/// A tangent T (9x9) contracted with one node's shape gradient g (3, 1/m):
+///   K_ik = sum_{j,l} g_j g_l T(i + 3 j, k + 3 l),
+/// the 3x3 diagonal block of a P1 tet's stiffness per unit volume for that node, the
+/// per-vertex Hessian of Vertex Block Descent (Chen et al. 2024, eq. 8). With
+/// dF = dx g^T of rank one, d^2 J[dF, dF] = 0, so a law's H_J term never reaches it:
+/// the laws that have a closed form (node_stiffness) use that; this is the general
+/// one, and what the closed forms are tested against.
+inline Eigen::Matrix3d contract_tangent(const Matrix9d& T, const Eigen::Vector3d& g) {
+  Eigen::Matrix<double, 9, 3> G = Eigen::Matrix<double, 9, 3>::Zero();
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) G(i + 3 * j, i) = g(j);
+  return G.transpose() * T * G;
+}
+
 /// Throws std::domain_error "<law>: <quantity> is undefined at det F = <J> <= 0 ...":
 /// what the laws built on ln J or J^(-2/3) do when asked for a stress or tangent
 /// of an inverted (or flat) element.

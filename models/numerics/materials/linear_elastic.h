@@ -71,6 +71,12 @@ struct LinearElastic {
     return k;
   }
 
+  /// The tangent contracted with one node's shape gradient g (contract_tangent in
+  /// deformation_gradient.h): stiffness_entry(g, g, i, k), (lambda + mu) g g^T + mu |g|^2 I.
+  Eigen::Matrix3d node_stiffness(const Eigen::Matrix3d& /*F*/, const Eigen::Vector3d& g) const {
+    return (lambda + mu) * (g * g.transpose()) + mu * g.squaredNorm() * Eigen::Matrix3d::Identity();
+  }
+
   /// eps = sym(F - I) (3x3).
   static Eigen::Matrix3d strain(const Eigen::Matrix3d& F) {
     return 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity();

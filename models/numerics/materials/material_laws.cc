@@ -6,6 +6,7 @@
 #include "neo_hookean.h"
 #include "neo_hookean_isochoric.h"
 #include "stable_neo_hookean.h"
+#include "xpbd_neo_hookean.h"
 
 namespace tb {
 namespace {
@@ -55,6 +56,11 @@ const std::vector<MaterialLawInfo>& material_laws() {
                               "mu' = 4 mu/3, lambda' = lambda + 5 mu/6, alpha = 1 + mu'/lambda' - mu'/(4 lambda'); "
                               "rest-stable, finite for J <= 0",
                               true),
+      entry<XpbdNeoHookean>("xpbd_neo_hookean",
+                            "the neo-Hookean energy of volumetric XPBD (Macklin and Mueller 2021): "
+                            "W = mu'/2 (I1 - 3) + lambda'/2 (J - alpha)^2, mu' = mu, lambda' = lambda + mu, "
+                            "alpha = 1 + mu'/lambda'; rest-stable, finite for J <= 0",
+                            true),
   };
   return laws;
 }

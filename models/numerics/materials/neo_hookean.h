@@ -59,6 +59,17 @@ struct NeoHookean {
     T.diagonal().array() += mu;
     return T;
   }
+
+  /// The tangent contracted with one node's shape gradient g (contract_tangent in
+  /// deformation_gradient.h; H_J drops out): mu |g|^2 I + (lambda (1 - ln J) + mu) / J^2
+  /// (cof F g)(cof F g)^T. Throws std::domain_error if det F <= 0.
+  Eigen::Matrix3d node_stiffness(const Eigen::Matrix3d& F, const Eigen::Vector3d& g) const {
+    const double J = F.determinant();
+    if (!(J > 0)) throw_inverted("neo_hookean", "node stiffness", J);
+    const Eigen::Vector3d c = cofactor(F) * g;
+    return mu * g.squaredNorm() * Eigen::Matrix3d::Identity() +
+           ((lambda * (1 - std::log(J)) + mu) / (J * J)) * (c * c.transpose());
+  }
 };
 
 }  // namespace tb

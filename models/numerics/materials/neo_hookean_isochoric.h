@@ -61,6 +61,12 @@ struct NeoHookeanIsochoric {
     T.diagonal().array() += 2 * c10 * a;
     return T;
   }
+
+  /// The tangent contracted with one node's shape gradient g (deformation_gradient.h's
+  /// contract_tangent; no closed form written). Throws std::domain_error if det F <= 0.
+  Eigen::Matrix3d node_stiffness(const Eigen::Matrix3d& F, const Eigen::Vector3d& g) const {
+    return contract_tangent(tangent(F), g);
+  }
 };
 
 }  // namespace tb

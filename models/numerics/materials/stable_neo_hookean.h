@@ -64,6 +64,16 @@ struct StableNeoHookean {
     T.diagonal().array() += mu * (1 - 1 / (I1 + 1));
     return T;
   }
+
+  /// The tangent contracted with one node's shape gradient g (contract_tangent in
+  /// deformation_gradient.h; H_J drops out): mu' (1 - 1/(I1 + 1)) |g|^2 I
+  /// + 2 mu'/(I1 + 1)^2 (F g)(F g)^T + lambda' (cof F g)(cof F g)^T, positive semi-definite.
+  Eigen::Matrix3d node_stiffness(const Eigen::Matrix3d& F, const Eigen::Vector3d& g) const {
+    const double I1 = F.squaredNorm();
+    const Eigen::Vector3d f = F * g, c = cofactor(F) * g;
+    return (mu * (1 - 1 / (I1 + 1)) * g.squaredNorm()) * Eigen::Matrix3d::Identity() +
+           (2 * mu / ((I1 + 1) * (I1 + 1))) * (f * f.transpose()) + lambda * (c * c.transpose());
+  }
 };
 
 }  // namespace tb

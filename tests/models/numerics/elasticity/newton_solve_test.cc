@@ -41,6 +41,9 @@ double root(const std::function<double(double)>& g) {
 ///     alpha = 1 + mu'/lambda' - mu'/(4 lambda')): P = mu' (1 - 1/(I1 + 1)) F + lambda' (J - alpha) cof F,
 ///     cof F = diag(t^2, l t, l t): P22 = mu' (1 - 1/(I1 + 1)) t + lambda' (J - alpha) l t = 0;
 ///     P11 = mu' (1 - 1/(I1 + 1)) l + lambda' (J - alpha) t^2.
+///   xpbd_neo_hookean (Macklin and Mueller 2021, mu' = mu, lambda' = lambda + mu, alpha = 1 + mu'/lambda'):
+///     P = mu' F + lambda' (J - alpha) cof F: P22 = mu' t + lambda' (J - alpha) l t = 0;
+///     P11 = mu' l + lambda' (J - alpha) t^2.
 struct Uniaxial {
   double t, P11;
 };
@@ -58,6 +61,11 @@ Uniaxial uniaxial(const std::string& law, double l, const LameParameters& p) {
     };
     const double t = root([&](double t) { return P(t, t); });
     return {t, P(t, l)};
+  }
+  if (law == "xpbd_neo_hookean") {
+    const double mu_x = mu, lambda_x = lambda + mu, alpha_x = 1 + mu_x / lambda_x;
+    const double t = root([&](double t) { return mu_x * t + lambda_x * (l * t * t - alpha_x) * l * t; });
+    return {t, mu_x * l + lambda_x * (l * t * t - alpha_x) * t * t};
   }
   const double mu_s = 4 * mu / 3, lambda_s = lambda + 5 * mu / 6, alpha = 1 + mu_s / lambda_s - mu_s / (4 * lambda_s);
   auto shear = [&](double t) { return mu_s * (1 - 1 / (l * l + 2 * t * t + 1)); };
@@ -117,7 +125,8 @@ TEST_P(UniaxialStretch, MatchesTheClosedFormInStretchAndCompression) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Laws, UniaxialStretch,
-                         ::testing::Values("neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean"),
+                         ::testing::Values("neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean",
+                                           "xpbd_neo_hookean"),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 // A nearly incompressible block clamped at its base and compressed 18.25 % by a

@@ -29,6 +29,8 @@
 #include "neo_hookean.h"
 #include "neo_hookean_isochoric.h"
 #include "stable_neo_hookean.h"
+#include "xpbd_neo_hookean.h"
+#include "material_law_visit.h"
 #include "stiffness_assembly.h"
 #include "tet_element.h"
 
@@ -174,6 +176,12 @@ struct Traits<StableNeoHookean> {
   static constexpr bool frame_indifferent = true;
   static constexpr double small_strain_tolerance = 1e-10;
 };
+template <>
+struct Traits<XpbdNeoHookean> {
+  static constexpr const char* name = "xpbd_neo_hookean";
+  static constexpr bool frame_indifferent = true;
+  static constexpr double small_strain_tolerance = 1e-12;
+};
 
 struct LawName {
   template <class Law>
@@ -184,7 +192,7 @@ struct LawName {
 
 template <class Law>
 class EveryLaw : public ::testing::Test {};
-using Laws = ::testing::Types<LinearElastic, NeoHookean, NeoHookeanIsochoric, StableNeoHookean>;
+using Laws = ::testing::Types<LinearElastic, NeoHookean, NeoHookeanIsochoric, StableNeoHookean, XpbdNeoHookean>;
 TYPED_TEST_SUITE(EveryLaw, Laws, LawName);
 
 TYPED_TEST(EveryLaw, StressIsTheEnergyGradient) {
@@ -200,6 +208,28 @@ TYPED_TEST(EveryLaw, TangentIsTheStressGradient) {
     const TypeParam law(lame_parameters(kE, nu));
     for (const Mat3& F : all_samples())
       EXPECT_LT(relative(tangent_by_differences(law, F), law.tangent(F)), 1e-6) << "nu " << nu << "\nF\n" << F;
+  }
+}
+
+// node_stiffness (a closed form where the law's header writes one) against the
+// tangent contracted by contract_tangent, and contract_tangent against the
+// element stiffness's diagonal block (tet_element.h) of a tet with that gradient:
+// to 1e-12 relative, rounding of sums of order |T|.
+TYPED_TEST(EveryLaw, NodeStiffnessIsTheElementStiffnessDiagonalBlock) {
+  Random r(2024);
+  const Vec3 X[4] = {Vec3(0, 0, 0), Vec3(0.012, 0.001, 0), Vec3(0.002, 0.01, 0.001), Vec3(0.001, 0.002, 0.011)};
+  const TetShape shape = tet_shape(X[0], X[1], X[2], X[3]);
+  for (double nu : kPoisson) {
+    const TypeParam law(lame_parameters(kE, nu));
+    for (const Mat3& F : all_samples()) {
+      for (int a = 0; a < 4; ++a) {
+        const Vec3 g = shape.gradients.col(a);
+        const Mat3 closed = law.node_stiffness(F, g), contracted = contract_tangent(law.tangent(F), g);
+        EXPECT_LT(relative(closed, contracted), 1e-12) << "nu " << nu << " node " << a << "\nF\n" << F;
+        const Mat3 block = tet_stiffness(shape, law, F).template block<3, 3>(3 * a, 3 * a) / shape.volume;
+        EXPECT_LT(relative(contracted, block), 1e-12) << "nu " << nu << " node " << a;
+      }
+    }
   }
 }
 
@@ -657,7 +687,8 @@ TEST(MaterialLaws, EachLawOnceWithAPlainName) {
     EXPECT_FALSE(law.description.empty()) << law.name;
     names.push_back(law.name);
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"linear", "neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"linear", "neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean",
+                                             "xpbd_neo_hookean"}));
 }
 
 template <class Law>
@@ -685,6 +716,42 @@ TEST(MaterialLaws, EntriesAreTheLaws) {
   expect_entry_is<NeoHookean>("neo_hookean");
   expect_entry_is<NeoHookeanIsochoric>("neo_hookean_isochoric");
   expect_entry_is<StableNeoHookean>("stable_neo_hookean");
+  expect_entry_is<XpbdNeoHookean>("xpbd_neo_hookean");
+}
+
+// visit_material_law reaches every law of the table, as the struct of that name.
+TEST(MaterialLaws, EveryLawCanBeVisitedByName) {
+  const LameParameters p = lame_parameters(kE, 0.45);
+  const Mat3 F = far_from_identity()[2];
+  for (const MaterialLawInfo& entry : material_laws()) {
+    const double W = visit_material_law(entry.name, p, [&](const auto& law) { return law.energy(F); });
+    EXPECT_EQ(W, entry.energy(F, p)) << entry.name;
+  }
+  EXPECT_THROW(visit_material_law("rubber", p, [](const auto&) { return 0; }), std::invalid_argument);
+}
+
+// The XPBD law's parameters (the mapping of its header) and its closed form under
+// uniaxial stretch F = diag(l, t, t): cof F = diag(t^2, l t, l t), J = l t^2,
+//   P_11 = mu' l + lambda' (J - alpha) t^2,   P_22 = mu' t + lambda' (J - alpha) l t,
+//   W = mu'/2 (l^2 + 2 t^2 - 3) + lambda'/2 (J - alpha)^2.
+TEST(XpbdNeoHookean, ParametersAndUniaxialStretchClosedForm) {
+  for (double nu : kPoisson) {
+    const LameParameters p = lame_parameters(kE, nu);
+    const XpbdNeoHookean law(p);
+    EXPECT_DOUBLE_EQ(law.mu, p.mu);
+    EXPECT_DOUBLE_EQ(law.lambda, p.lambda + p.mu);
+    EXPECT_DOUBLE_EQ(law.alpha, 1 + law.mu / law.lambda);
+    for (double l : {1.5, 0.6}) {
+      const double mu = law.mu, lambda = law.lambda, alpha = law.alpha;
+      expect_uniaxial(
+          law, l, [&](double l, double t) { return mu * l + lambda * (l * t * t - alpha) * t * t; },
+          [&](double l, double t) { return mu * t + lambda * (l * t * t - alpha) * l * t; },
+          [&](double l, double t) {
+            const double J = l * t * t;
+            return mu / 2 * (l * l + 2 * t * t - 3) + lambda / 2 * (J - alpha) * (J - alpha);
+          });
+    }
+  }
 }
 
 TEST(MaterialLaws, UnknownNameListsTheKnownOnes) {

@@ -1,0 +1,74 @@
+#include "colouring.h"
+
+#include <algorithm>
+
+namespace tb {
+namespace {
+
+/// The smallest colour not marked in `used` (entries equal to `stamp`).
+int first_free(const std::vector<int>& used, int stamp) {
+  int c = 0;
+  while (c < static_cast<int>(used.size()) && used[static_cast<size_t>(c)] == stamp) ++c;
+  return c;
+}
+
+void add_to(Colouring& classes, int colour, int item) {
+  if (colour >= static_cast<int>(classes.size())) classes.resize(static_cast<size_t>(colour) + 1);
+  classes[static_cast<size_t>(colour)].push_back(item);
+}
+
+}  // namespace
+
+Colouring colour_vertices(const Tetrahedra& T, int vertex_count, const std::vector<int>& active) {
+  // Tets around each vertex (CSR).
+  std::vector<int> offset(static_cast<size_t>(vertex_count) + 1, 0), tets;
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
+    for (int a = 0; a < 4; ++a) ++offset[static_cast<size_t>(T(t, a)) + 1];
+  for (size_t v = 0; v < static_cast<size_t>(vertex_count); ++v) offset[v + 1] += offset[v];
+  tets.resize(static_cast<size_t>(offset.back()));
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
+    for (int a = 0; a < 4; ++a) tets[static_cast<size_t>(fill[static_cast<size_t>(T(t, a))]++)] = static_cast<int>(t);
+  std::vector<int> sorted = active;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int> colour(static_cast<size_t>(vertex_count), -1), used;
+  Colouring classes;
+  int stamp = 0;
+  for (int v : sorted) {
+    ++stamp;
+    for (int k = offset[static_cast<size_t>(v)]; k < offset[static_cast<size_t>(v) + 1]; ++k)
+      for (int a = 0; a < 4; ++a) {
+        const int c = colour[static_cast<size_t>(T(tets[static_cast<size_t>(k)], a))];
+        if (c < 0) continue;
+        if (c >= static_cast<int>(used.size())) used.resize(static_cast<size_t>(c) + 1, 0);
+        used[static_cast<size_t>(c)] = stamp;
+      }
+    const int c = first_free(used, stamp);
+    colour[static_cast<size_t>(v)] = c;
+    add_to(classes, c, v);
+  }
+  return classes;
+}
+
+Colouring colour_tets(const Tetrahedra& T, int vertex_count, const std::vector<char>& moving) {
+  // Per vertex, the colours its tets took so far (as a list: a vertex has few tets).
+  std::vector<std::vector<int>> taken(static_cast<size_t>(vertex_count));
+  std::vector<int> used;
+  Colouring classes;
+  int stamp = 0;
+  for (Eigen::Index t = 0; t < T.rows(); ++t) {
+    ++stamp;
+    for (int a = 0; a < 4; ++a)
+      for (int c : taken[static_cast<size_t>(T(t, a))]) {
+        if (c >= static_cast<int>(used.size())) used.resize(static_cast<size_t>(c) + 1, 0);
+        used[static_cast<size_t>(c)] = stamp;
+      }
+    const int c = first_free(used, stamp);
+    for (int a = 0; a < 4; ++a)
+      if (moving[static_cast<size_t>(T(t, a))]) taken[static_cast<size_t>(T(t, a))].push_back(c);
+    add_to(classes, c, static_cast<int>(t));
+  }
+  return classes;
+}
+
+}  // namespace tb

@@ -1,0 +1,26 @@
+// Greedy graph colourings of a tet mesh for Gauss-Seidel sweeps that run a colour
+// in parallel: the vertices (no two vertices of one tet share a colour; Vertex
+// Block Descent) or the tets (no two tets sharing a vertex share a colour; the
+// XPBD tet constraints). Deterministic: items in index order, each the smallest
+// colour its already-coloured neighbours leave free (Welsh and Powell 1967 without
+// the degree ordering).
+#pragma once
+
+#include "mesh_types.h"
+#include <vector>
+
+namespace tb {
+
+/// Colour classes, each a list of item indices in increasing order.
+using Colouring = std::vector<std::vector<int>>;
+
+/// The listed vertices (`active`, each in [0, #V)) coloured so that no two in one
+/// class share a tet of T (#T by 4). #V: the vertex count.
+Colouring colour_vertices(const Tetrahedra& T, int vertex_count, const std::vector<int>& active);
+
+/// Every tet of T (#T by 4) coloured so that no two in one class share a vertex;
+/// a vertex not in `moving` (#V flags) does not count as shared (its position is
+/// never written). #V: the vertex count.
+Colouring colour_tets(const Tetrahedra& T, int vertex_count, const std::vector<char>& moving);
+
+}  // namespace tb

@@ -1,0 +1,221 @@
+// What the real-time time steppers on a body's P1 tets share (Vertex Block Descent,
+// vbd_solve.cc; XPBD with neo-Hookean tet constraints, xpbd_tet_solve.cc): the
+// positions and velocities of the nodes, their lumped masses, which components a
+// tool or the support holds, the external force of the frame, the colour-by-colour
+// parallel sweep, and the reactions. Each is an ElasticSolve that advances one
+// frame of `time_step` per solve(): the fine FEM (models/fine_fem.h) runs it as a
+// dynamic model, tools and loads and reactions included.
+//
+// Reactions (what the tissue exerts on a tool): at a held dof c, f_c - f_int,c(x)
+// - m_c (x_c - x_n,c - h v_n,c) / h^2, the implicit-Euler balance of the node the
+// tool moves (as the fem_dynamic reference measures it; docs/equations.md), from
+// the law's own f_int over the tets that touch a held node, once per frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "colouring.h"
+#include "elastic_solve.h"
+#include "tet_element.h"
+#include "thread_team.h"
+
+namespace tb {
+
+/// The settings every stepper here reads.
+struct TimeStepping {
+  double time_step = 0.01;  ///< s per frame
+  int threads = 1;          ///< members of the sweep's thread team (1: the caller alone)
+};
+
+/// The parameters time_step and threads, for the models built on these steppers.
+std::vector<ParameterSpec> time_stepping_parameters(double default_time_step);
+TimeStepping time_stepping(const Parameters& p);
+
+template <class Law>
+class TetTimeStepper : public ElasticSolve {
+ public:
+  TetTimeStepper(const ElasticBody& body, const Law& law, const TimeStepping& settings, std::string name)
+      : body_(body), law_(law), s_(settings), name_(std::move(name)) {
+    if (!(s_.time_step > 0)) throw std::invalid_argument(name_ + ": time_step must be positive");
+    const TetMesh& m = body.mesh();
+    const Eigen::Index n = m.V.rows();
+    T_ = m.T;
+    X_ = m.V.transpose();
+    x_ = X_;
+    x_n_ = X_;
+    v_ = Eigen::Matrix3Xd::Zero(3, n);
+    f_ext_ = Eigen::Matrix3Xd::Zero(3, n);
+    free_ = Eigen::Matrix3Xd::Zero(3, n);
+    mass_ = Eigen::VectorXd::Zero(n);
+    shapes_.reserve(static_cast<size_t>(T_.rows()));
+    for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+      shapes_.push_back(tet_shape(m.V.row(T_(t, 0)), m.V.row(T_(t, 1)), m.V.row(T_(t, 2)), m.V.row(T_(t, 3))));
+      // Row-sum lumping of P1's consistent mass: a quarter of the tet's to each node.
+      for (int a = 0; a < 4; ++a) mass_(T_(t, a)) += body.material().density * shapes_.back().volume / 4;
+    }
+    std::vector<char> held(static_cast<size_t>(n), 0);
+    for (Eigen::Index v = 0; v < n; ++v)
+      for (int i = 0; i < 3; ++i) {
+        const bool is_free = body.free_index(static_cast<int>(3 * v + i)) >= 0;
+        free_(i, v) = is_free ? 1 : 0;
+        if (!is_free) held[static_cast<size_t>(v)] = 1;
+      }
+    for (Eigen::Index t = 0; t < T_.rows(); ++t)
+      for (int a = 0; a < 4; ++a)
+        if (held[static_cast<size_t>(T_(t, a))]) {
+          held_tets_.push_back(static_cast<int>(t));
+          break;
+        }
+    reaction_force_ = Eigen::VectorXd::Zero(3 * n);
+    if (s_.threads > 1) team_ = std::make_unique<pbd::ThreadTeam>(s_.threads);
+  }
+
+  bool linear() const override { return false; }
+  /// Exact at the held dofs only (the reactions read no other; tet_time_stepping.h).
+  const Eigen::VectorXd* internal_force() const override { return &reaction_force_; }
+
+  /// One frame: the held components go to the values the caller set in u, the free
+  /// ones move by advance(); u (3 #V) out.
+  void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) final {
+    const Eigen::Index n = X_.cols();
+    if (u.size() != 3 * n) u = Eigen::VectorXd::Zero(3 * n);
+    for (Eigen::Index v = 0; v < n; ++v)
+      for (int i = 0; i < 3; ++i) {
+        const int free = body_.free_index(static_cast<int>(3 * v + i));
+        f_ext_(i, v) = free >= 0 ? f_free(free) : 0;
+      }
+    x_n_ = x_;
+    v_n_held_ = v_;
+    target_ = X_ + Eigen::Map<const Eigen::Matrix3Xd>(u.data(), 3, n);  // the held components' values
+    advance();
+    for (Eigen::Index v = 0; v < n; ++v)
+      for (int i = 0; i < 3; ++i)
+        if (free_(i, v) == 0) {
+          x_(i, v) = target_(i, v);
+          v_(i, v) = (x_(i, v) - x_n_(i, v)) / s_.time_step;
+        }
+    Eigen::Map<Eigen::Matrix3Xd>(u.data(), 3, n) = x_ - X_;
+    measure_reactions();
+  }
+
+  nlohmann::json report() const override {
+    nlohmann::json r = own_report();
+    r["time_step"] = s_.time_step;
+    r["threads"] = s_.threads;
+    r["static_residual"] = static_residual();
+    return r;
+  }
+
+ protected:
+  /// Moves x_ over one frame of time_step from x_n_ (positions) and v_ (velocities),
+  /// under f_ext_, and updates v_ for the free components. The held components of
+  /// target_ are where the tools put them at the frame's end (solve() sets x_ there
+  /// afterwards; a stepper may move them there gradually).
+  virtual void advance() = 0;
+  virtual nlohmann::json own_report() const = 0;
+
+  /// F of tet t at positions x (3 by #V).
+  Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
+    Eigen::Matrix<double, 3, 4> xs;
+    for (int a = 0; a < 4; ++a) xs.col(a) = x.col(T_(t, a));
+    return tet_deformation_gradient(shapes_[static_cast<size_t>(t)], xs);
+  }
+
+  /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that does not.
+  bool all_positive(const Eigen::Matrix3Xd& x, Eigen::Index* first_bad = nullptr, double* bad_J = nullptr) const {
+    for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+      const double J = deformation_gradient(t, x).determinant();
+      if (!(J > 0)) {
+        if (first_bad) *first_bad = t;
+        if (bad_J) *bad_J = J;
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// Runs item(k) for every k of every class, class by class; the items of a class
+  /// are shared out over the thread team in contiguous ranges, a barrier between
+  /// classes. The result does not depend on the team's size (items of a class
+  /// touch disjoint data). No heap allocation.
+  template <class Item>
+  void sweep(const Colouring& classes, Item& item) {
+    if (!team_) {
+      for (const std::vector<int>& c : classes)
+        for (int k : c) item(k);
+      return;
+    }
+    const int members = team_->size();
+    auto task = [&](int member) {
+      for (const std::vector<int>& c : classes) {
+        const size_t begin = c.size() * static_cast<size_t>(member) / static_cast<size_t>(members);
+        const size_t end = c.size() * static_cast<size_t>(member + 1) / static_cast<size_t>(members);
+        for (size_t k = begin; k < end; ++k) item(c[k]);
+        team_->barrier();
+      }
+    };
+    team_->run(task);
+  }
+
+  const ElasticBody& body_;
+  Law law_;
+  TimeStepping s_;
+  std::string name_;
+  Tetrahedra T_;
+  std::vector<TetShape> shapes_;
+  Eigen::Matrix3Xd X_;       ///< rest positions, column per node
+  Eigen::Matrix3Xd x_, v_;   ///< positions and velocities
+  Eigen::Matrix3Xd x_n_;     ///< positions at the frame's start
+  Eigen::Matrix3Xd target_;  ///< the held components' positions at the frame's end
+  Eigen::Matrix3Xd f_ext_;   ///< the frame's external nodal force on the free components, N
+  Eigen::Matrix3Xd free_;    ///< 1 where a component moves freely, 0 where a tool or the support holds it
+  Eigen::VectorXd mass_;     ///< lumped nodal mass, kg
+
+ private:
+  void measure_reactions() {
+    reaction_force_.setZero();
+    const double h = s_.time_step;
+    for (int t : held_tets_) {
+      const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));
+      const TetShape& shape = shapes_[static_cast<size_t>(t)];
+      for (int a = 0; a < 4; ++a)
+        reaction_force_.segment<3>(3 * T_(t, a)) += shape.volume * (P * shape.gradients.col(a));
+    }
+    // The held nodes' inertia: the tool accelerates the mass it holds.
+    for (Eigen::Index v = 0; v < X_.cols(); ++v)
+      for (int i = 0; i < 3; ++i)
+        if (free_(i, v) == 0)
+          reaction_force_(3 * v + i) += mass_(v) * (x_(i, v) - x_n_(i, v) - h * v_n_held_(i, v)) / (h * h);
+  }
+
+  /// |f_ext - f_int(x)| over the free components, relative to the larger of |f_ext|
+  /// and |f_int|: 0 at a static equilibrium, what a settled state is measured by.
+  double static_residual() const {
+    Eigen::Matrix3Xd r = -f_ext_;
+    try {
+      for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+        const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));
+        const TetShape& shape = shapes_[static_cast<size_t>(t)];
+        for (int a = 0; a < 4; ++a) r.col(T_(t, a)) += shape.volume * (P * shape.gradients.col(a));
+      }
+    } catch (const std::domain_error&) {
+      return std::numeric_limits<double>::infinity();  // an inverted tet under a law undefined there
+    }
+    const double scale = std::max({f_ext_.norm(), (r + f_ext_).cwiseProduct(free_).norm(), 1e-300});
+    return r.cwiseProduct(free_).norm() / scale;
+  }
+
+  std::unique_ptr<pbd::ThreadTeam> team_;
+  std::vector<int> held_tets_;      ///< tets with a held node (the reactions' f_int)
+  Eigen::Matrix3Xd v_n_held_;       ///< velocities at the frame's start (the held nodes' inertia)
+  Eigen::VectorXd reaction_force_;  ///< f_int + inertia at the held dofs (3 #V, zero elsewhere)
+};
+
+}  // namespace tb

@@ -1,0 +1,277 @@
+#include "vbd_solve.h"
+
+#include <Eigen/Cholesky>
+#include <sstream>
+#include <stdexcept>
+
+#include "lame_parameters.h"
+#include "material_law_visit.h"
+
+namespace tb {
+namespace {
+
+const char* start_name(VbdStart s) {
+  switch (s) {
+    case VbdStart::Previous: return "previous";
+    case VbdStart::Inertial: return "inertial";
+    case VbdStart::Adaptive: return "adaptive";
+  }
+  return "";
+}
+
+template <class Law>
+class VbdSolve : public TetTimeStepper<Law> {
+  using Base = TetTimeStepper<Law>;
+  using Base::free_;
+  using Base::mass_;
+  using Base::s_;
+  using Base::shapes_;
+  using Base::T_;
+  using Base::v_;
+  using Base::x_;
+  using Base::x_n_;
+
+ public:
+  VbdSolve(const ElasticBody& body, const Law& law, const VbdSettings& settings, bool defined_when_inverted)
+      : Base(body, law, settings.stepping, "vbd"), o_(settings), keep_positive_(!defined_when_inverted) {
+    if (o_.iterations < 1) throw std::invalid_argument("vbd: iterations must be at least 1");
+    if (!(o_.chebyshev_rho >= 0 && o_.chebyshev_rho < 1))
+      throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
+    const Eigen::Index n = x_.cols();
+    // Tets around each vertex, with the vertex's place in the tet (CSR).
+    offset_.assign(static_cast<size_t>(n) + 1, 0);
+    for (Eigen::Index t = 0; t < T_.rows(); ++t)
+      for (int a = 0; a < 4; ++a) ++offset_[static_cast<size_t>(T_(t, a)) + 1];
+    for (size_t v = 0; v < static_cast<size_t>(n); ++v) offset_[v + 1] += offset_[v];
+    around_.resize(static_cast<size_t>(offset_.back()));
+    std::vector<int> fill(offset_.begin(), offset_.end() - 1);
+    for (Eigen::Index t = 0; t < T_.rows(); ++t)
+      for (int a = 0; a < 4; ++a)
+        around_[static_cast<size_t>(fill[static_cast<size_t>(T_(t, a))]++)] = {static_cast<int>(t), a};
+    std::vector<int> moving;
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (free_.col(v).sum() > 0) moving.push_back(static_cast<int>(v));
+    colours_ = colour_vertices(T_, static_cast<int>(n), moving);
+    y_ = x_;
+    a_last_ = Eigen::Matrix3Xd::Zero(3, n);
+    accelerated_ = prev1_ = prev2_ = x_;
+  }
+
+ protected:
+  void advance() override {
+    const double h = s_.time_step, h2 = h * h;
+    const Eigen::Index n = x_.cols();
+    // The inertial target and the start (held components at the frame's end).
+    for (Eigen::Index v = 0; v < n; ++v) {
+      const Eigen::Vector3d a_ext = this->f_ext_.col(v) / mass_(v);
+      y_.col(v) = x_n_.col(v) + h * v_.col(v) + h2 * a_ext;
+      Eigen::Vector3d start = x_n_.col(v);
+      if (o_.start == VbdStart::Inertial) {
+        start = y_.col(v);
+      } else if (o_.start == VbdStart::Adaptive) {
+        // Their adaptive initialisation: the last acceleration's component along the external one,
+        // clamped to [0, |a_ext|]; none where no external force acts.
+        Eigen::Vector3d a = Eigen::Vector3d::Zero();
+        const double norm = a_ext.norm();
+        if (norm > 0) a = std::clamp(a_last_.col(v).dot(a_ext / norm), 0.0, norm) * (a_ext / norm);
+        start = x_n_.col(v) + h * v_.col(v) + h2 * a;
+      }
+      for (int i = 0; i < 3; ++i) {
+        x_(i, v) = free_(i, v) != 0 ? start(i) : this->target_(i, v);
+        y_(i, v) = free_(i, v) != 0 ? y_(i, v) : this->target_(i, v);
+      }
+    }
+    if (keep_positive_ && !this->all_positive(x_)) {
+      // The start inverted a tet: begin from x_n, the held nodes moved in stages.
+      for (Eigen::Index v = 0; v < n; ++v)
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) != 0) x_(i, v) = x_n_(i, v);
+    }
+    stages_ = 0;
+    if (!keep_positive_ || this->all_positive(x_)) {
+      sweeps(h2);
+      stages_ = 1;
+    } else {
+      move_held_in_stages(h2);
+    }
+    for (Eigen::Index v = 0; v < n; ++v)
+      for (int i = 0; i < 3; ++i)
+        if (free_(i, v) != 0) {
+          const double v_new = (x_(i, v) - x_n_(i, v)) / h;
+          a_last_(i, v) = (v_new - v_(i, v)) / h;
+          v_(i, v) = v_new;
+        }
+  }
+
+  nlohmann::json own_report() const override {
+    return {{"solve", "vertex block descent (Chen et al. 2024)"},
+            {"material_law", o_.law},
+            {"iterations", o_.iterations},
+            {"chebyshev_rho", o_.chebyshev_rho},
+            {"start", start_name(o_.start)},
+            {"vertex_colours", colours_.size()},
+            {"chebyshev_restarts", restarts_},
+            {"stages_last_frame", stages_}};
+  }
+
+  int last_iterations() const override { return o_.iterations * stages_; }
+
+ private:
+  /// `iterations` sweeps over every colour, with Chebyshev acceleration if asked.
+  void sweeps(double h2) {
+    prev1_ = prev2_ = x_;
+    double omega = 1;
+    auto update = [this, h2](int v) { update_vertex(v, h2); };
+    for (int k = 1; k <= o_.iterations; ++k) {
+      this->sweep(colours_, update);
+      if (o_.chebyshev_rho > 0) accelerate(k, omega);
+    }
+  }
+
+  /// Where the tools' move this frame would invert a tet beside a held node (a
+  /// grasp lifted by more than the cells around it are tall), under a law
+  /// undefined there: the held components advance by the largest fraction of
+  /// what is left that keeps every tet positive (halved until it does), `iterations`
+  /// sweeps relax the body after each stage, until they reach the tools' positions.
+  /// A frame then costs its sweeps once per stage (report: stages_last_frame).
+  void move_held_in_stages(double h2) {
+    const Eigen::Index n = x_.cols();
+    auto hold_at = [&](double fraction) {
+      for (Eigen::Index v = 0; v < n; ++v)
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) == 0) x_(i, v) = x_n_(i, v) + fraction * (this->target_(i, v) - x_n_(i, v));
+    };
+    double reached = 0;
+    while (reached < 1) {
+      double step = 1 - reached;
+      hold_at(reached + step);
+      Eigen::Index t = -1;
+      double J = 0;
+      while (!this->all_positive(x_, &t, &J)) {
+        step /= 2;
+        if (step < 1.0 / 4096 || stages_ >= 64) {
+          std::ostringstream msg;
+          msg << "vbd: this frame's tool positions invert tet " << t << " (det F = " << J
+              << ") beside a held node even in " << stages_ << " stages, where the " << o_.law
+              << " law is undefined; ramp the tool over more frames or use a law defined there (stable_neo_hookean)";
+          throw std::runtime_error(msg.str());
+        }
+        hold_at(reached + step);
+      }
+      reached = step >= 1 - reached ? 1 : reached + step;
+      sweeps(h2);
+      ++stages_;
+    }
+  }
+
+  /// One Newton step on vertex v's block of the incremental potential.
+  void update_vertex(int v, double h2) {
+    const double m = mass_(v) / h2;
+    Eigen::Vector3d gradient = m * (x_.col(v) - y_.col(v));
+    Eigen::Matrix3d H = m * Eigen::Matrix3d::Identity();
+    for (int k = offset_[static_cast<size_t>(v)]; k < offset_[static_cast<size_t>(v) + 1]; ++k) {
+      const auto [t, a] = around_[static_cast<size_t>(k)];
+      const TetShape& shape = shapes_[static_cast<size_t>(t)];
+      const Eigen::Matrix3d F = this->deformation_gradient(t, x_);
+      const Eigen::Vector3d g = shape.gradients.col(a);
+      gradient += shape.volume * (this->law_.first_piola(F) * g);
+      H += shape.volume * this->law_.node_stiffness(F, g);
+    }
+    for (int i = 0; i < 3; ++i)
+      if (free_(i, v) == 0) {  // a held component does not move
+        H.row(i).setZero();
+        H.col(i).setZero();
+        H(i, i) = 1;
+        gradient(i) = 0;
+      }
+    const Eigen::LLT<Eigen::Matrix3d> llt(H);
+    if (llt.info() != Eigen::Success) return;  // not a descent direction: the vertex waits this sweep
+    Eigen::Vector3d dx = -llt.solve(gradient);
+    if (!dx.allFinite()) return;
+    const Eigen::Vector3d from = x_.col(v);
+    for (int halving = 0; halving < 10; ++halving) {
+      x_.col(v) = from + dx;
+      if (!keep_positive_ || positive_around(v)) return;
+      dx /= 2;
+    }
+    x_.col(v) = from;
+  }
+
+  bool positive_around(int v) const {
+    for (int k = offset_[static_cast<size_t>(v)]; k < offset_[static_cast<size_t>(v) + 1]; ++k)
+      if (!(this->deformation_gradient(around_[static_cast<size_t>(k)].first, x_).determinant() > 0)) return false;
+    return true;
+  }
+
+  /// Chebyshev semi-iterative acceleration (Wang 2015, as Chen et al. 2024 use it):
+  /// x^k = omega_k (x_sweep^k - x^(k-2)) + x^(k-2), omega_1 = 1, omega_2 = 2 / (2 - rho^2),
+  /// omega_k = 4 / (4 - rho^2 omega_(k-1)). Restarted (omega = 1) where it would
+  /// invert a tet under a law undefined there.
+  void accelerate(int k, double& omega) {
+    const double rho2 = o_.chebyshev_rho * o_.chebyshev_rho;
+    omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho2) : 4 / (4 - rho2 * omega);
+    if (k >= 2) {
+      accelerated_ = prev2_ + omega * (x_ - prev2_);
+      if (!keep_positive_ || this->all_positive(accelerated_)) {
+        x_.swap(accelerated_);
+      } else {
+        omega = 1;
+        ++restarts_;
+      }
+    }
+    prev2_.swap(prev1_);
+    prev1_ = x_;
+  }
+
+  VbdSettings o_;
+  bool keep_positive_;
+  std::vector<int> offset_;
+  std::vector<std::pair<int, int>> around_;  ///< per vertex (CSR): (tet, the vertex's place in it)
+  Colouring colours_;
+  Eigen::Matrix3Xd y_;                       ///< the inertial target
+  Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
+  Eigen::Matrix3Xd accelerated_, prev1_, prev2_;
+  long restarts_ = 0;
+  int stages_ = 0;  ///< sweeps of `iterations` in the last frame (more than one where the tools moved in stages)
+};
+
+}  // namespace
+
+std::vector<ParameterSpec> vbd_parameters() {
+  using P = ParameterSpec;
+  std::vector<std::string> laws;
+  for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
+  const VbdSettings d;
+  std::vector<ParameterSpec> specs = time_stepping_parameters(d.stepping.time_step);
+  specs.push_back(P::choice("material_law", laws, d.law,
+                            "the material law (numerics/materials), with the Lame parameters of the scenario's E and nu"));
+  specs.push_back(P::whole_number("iterations", d.iterations, 1, 100000, "sweeps over every vertex colour per frame"));
+  specs.push_back(P::number("chebyshev_rho", d.chebyshev_rho, 0, 0.9999,
+                            "> 0: Chebyshev acceleration with this spectral radius estimate (0: off)"));
+  specs.push_back(P::choice("start", {"previous", "inertial", "adaptive"}, start_name(d.start),
+                            "a frame's first iterate: the last positions, the inertial target, or the paper's adaptive "
+                            "start (the last acceleration along the external force)"));
+  return specs;
+}
+
+VbdSettings vbd_settings(const Parameters& p) {
+  VbdSettings s;
+  s.stepping = time_stepping(p);
+  s.law = p.choice("material_law");
+  s.iterations = p.integer("iterations");
+  s.chebyshev_rho = p.number("chebyshev_rho");
+  const std::string& start = p.choice("start");
+  s.start = start == "previous" ? VbdStart::Previous : start == "inertial" ? VbdStart::Inertial : VbdStart::Adaptive;
+  return s;
+}
+
+std::unique_ptr<ElasticSolve> make_vbd_solve(const ElasticBody& body, const VbdSettings& settings) {
+  const bool defined = find_material_law(settings.law).defined_when_inverted;
+  return visit_material_law(settings.law, lame_parameters(body.material()),
+                            [&](const auto& law) -> std::unique_ptr<ElasticSolve> {
+                              using Law = std::decay_t<decltype(law)>;
+                              return std::make_unique<VbdSolve<Law>>(body, law, settings, defined);
+                            });
+}
+
+}  // namespace tb
