@@ -148,11 +148,11 @@ def make(results_dir, out, data_flag):
               "bead RMS (mm)"]
     out_rows = []
     for r in rows:
-        out_rows.append([r["scenario"], r["case"], r["law"], fmt(r["err_own"], 3) if r["err_own"] is not None else "",
-                         fmt(r["err_ref"], 3),
+        out_rows.append([r["scenario"], r["case"], r["law"], f"{r['err_own']:.3g}" if r["err_own"] is not None else "",
+                         f"{r['err_ref']:.3g}",
                          f"{r['frames']} ({r['simulated_s']:.2f})" if r["simulated_s"] else str(r["frames"]),
                          {True: "yes", False: "no", None: "(static)"}[r["settled"]],
-                         fmt(r["last_change"], 2) if r["last_change"] is not None else "",
+                         f"{r['last_change']:.2g}" if r["last_change"] is not None else "",
                          fmt(r["median_ms"], 3), fmt(r["p95_ms"], 3), fmt(r["setup_ms"], 0),
                          fmt(r["beads_mm"], 3) if r["beads_mm"] is not None else ""])
     b = next(iter(exp.scenarios.values()))[exp.reference]["run"]["build"]

@@ -121,11 +121,16 @@ class TetTimeStepper : public ElasticSolve {
   virtual void advance() = 0;
   virtual nlohmann::json own_report() const = 0;
 
-  /// F of tet t at positions x (3 by #V).
+  /// F of tet t at positions x (3 by #V): F = sum_a x_a g_a^T (tet_element.h), the
+  /// outer products written out; gathered into a 3 x 4 block and multiplied, Eigen's
+  /// product was an out-of-line call and a quarter of a VBD sweep (docs/realtime_nonlinear.md).
   Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
-    Eigen::Matrix<double, 3, 4> xs;
-    for (int a = 0; a < 4; ++a) xs.col(a) = x.col(T_(t, a));
-    return tet_deformation_gradient(shapes_[static_cast<size_t>(t)], xs);
+    const Eigen::Matrix<double, 3, 4>& g = shapes_[static_cast<size_t>(t)].gradients;
+    Eigen::Matrix3d F;
+    for (int j = 0; j < 3; ++j)
+      F.col(j) = x.col(T_(t, 0)) * g(j, 0) + x.col(T_(t, 1)) * g(j, 1) + x.col(T_(t, 2)) * g(j, 2) +
+                 x.col(T_(t, 3)) * g(j, 3);
+    return F;
   }
 
   /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that does not.
