@@ -416,22 +416,28 @@ void BM_ThreadTeamBarrier(benchmark::State& state) {
 
 /// A frame of a real-time nonlinear stepper on the paper cube's fine volume
 /// (refinement range(1): 1 the paper's ~17 800 tets, 6 about 100 000), the 1 N pull
-/// at the top centre: range(0) 0 VBD (neo_hookean, 20 sweeps) or 1 XPBD
-/// (xpbd_neo_hookean, 20 sub-steps), on range(2) threads. Frames continue the same
-/// run (the transient), time_step 0.01 s. Wall time: the second thread works.
+/// at the top centre: range(0) 0 VBD (neo_hookean) or 1 XPBD (xpbd_neo_hookean), on
+/// range(2) threads, range(3) sweeps (VBD) or sub-steps (XPBD) a frame; time_step
+/// 0.01 s (XPBD with one sub-step: 0.001 s, the configuration whose settled error
+/// docs/realtime_nonlinear.md tables). Frames continue the same run (the
+/// transient). Wall time: the second thread works.
 void BM_NonlinearStepperFrame(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(1)));
   const ElasticBody body(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V));
   const BodyLoads loads(body, {containing_tet(h.fine_volume, kCubeLoad.point, "fine volume")});
   std::unique_ptr<ElasticSolve> solve;
   const int threads = static_cast<int>(state.range(2));
+  const int work = static_cast<int>(state.range(3));
   if (state.range(0) == 0) {
     VbdSettings o;
     o.stepping.threads = threads;
+    o.iterations = work;
     solve = make_vbd_solve(body, o);
   } else {
     XpbdTetSettings o;
     o.stepping.threads = threads;
+    o.substeps = work;
+    if (work == 1) o.stepping.time_step = 0.001;
     solve = make_xpbd_tet_solve(body, o);
   }
   ElasticFrame frame(body, loads, *solve);
@@ -488,9 +494,13 @@ BENCHMARK(BM_HybridFrameScaling)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PbdKernelSpeedup)->ArgName("divisions")->Arg(10)->Arg(40)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_XpbdFrame)->ArgName("hybrid")->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+// The real-time question: a frame of one sweep (VBD) or one 1 ms sub-step
+// (XPBD) against the tet count (refine 1, 2, 4, 6: the slope of cost in tets) and
+// the threads; and the default 20, which the study's error table pairs with.
 BENCHMARK(BM_NonlinearStepperFrame)
-    ->ArgNames({"xpbd", "refine", "threads"})
-    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}})
+    ->ArgNames({"xpbd", "refine", "threads", "work"})
+    ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}})
+    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
