@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "default_steppers.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "load_mapping.h"
@@ -79,16 +80,10 @@ Outcome run(const TetMesh& mesh, const Material& material, bool vbd, double time
   const ElasticBody body(mesh, material, clamped_base(mesh));
   const BodyLoads loads(body, {containing_tet(mesh, {kSide / 2, kSide / 2, kSide}, "cube")});
   const Eigen::Vector3d force(0, 0, 0.2);
-  std::unique_ptr<ElasticSolve> s;
-  if (vbd) {
-    VbdSettings o;
-    o.stepping.time_step = time_step;
-    s = make_vbd_solve(body, o);
-  } else {
-    XpbdTetSettings o;
-    o.stepping.time_step = time_step;
-    s = make_xpbd_tet_solve(body, o);
-  }
+  TimeStepping stepping;
+  stepping.time_step = time_step;
+  const auto s = testing::make_default_stepper(
+      body, vbd ? testing::RealtimeStepper::Vbd : testing::RealtimeStepper::Xpbd, stepping);
   ElasticFrame frame(body, loads, *s);
   Eigen::VectorXd u;
   for (int f = 0; f < frames; ++f) frame.step({force}, {}, u);

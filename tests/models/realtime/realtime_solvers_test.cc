@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 
+#include "default_steppers.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "load_mapping.h"
@@ -223,16 +224,10 @@ TEST(RealtimeSteppers, TwoThreadsGiveTheOneThreadAnswerBitwise) {
   for (int which = 0; which < 2; ++which) {
     Eigen::VectorXd u[2];
     for (int threads : {1, 2}) {
-      std::unique_ptr<ElasticSolve> s;
-      if (which == 0) {
-        VbdSettings o;
-        o.stepping.threads = threads;
-        s = make_vbd_solve(body, o);
-      } else {
-        XpbdTetSettings o;
-        o.stepping.threads = threads;
-        s = make_xpbd_tet_solve(body, o);
-      }
+      TimeStepping stepping;
+      stepping.threads = threads;
+      const auto s = testing::make_default_stepper(
+          body, which == 0 ? testing::RealtimeStepper::Vbd : testing::RealtimeStepper::Xpbd, stepping);
       ElasticFrame frame(body, loads, *s);
       for (int f = 0; f < 20; ++f) frame.step(force, {}, u[threads - 1]);
     }
