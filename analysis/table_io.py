@@ -48,11 +48,11 @@ def write_table(out_dir, name, header, rows, notes=""):
         f.write(md)
 
 
-def machine_note(cases):
+def machine_note(cases, threads="one thread"):
     """Machine, build and thread count of the runs (read from a run.json)."""
     b = next(iter(cases.values()))["run"]["build"]
     return (f"Measured on {b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
-            f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; one thread.")
+            f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; {threads}.")
 
 
 def case_legend(cases):

@@ -27,7 +27,7 @@ const std::map<std::string, std::vector<std::string>>& file_schema() {
       {"scenario.observe", {"vertices", "top_tolerance"}},
       {"scenario.output", {"series_every"}},
       {"scenario.models[]", {"name", "model", "parameters"}},
-      {"experiment", {"name", "description", "reference", "scenarios", "models", "sweep"}},
+      {"experiment", {"name", "description", "reference", "scenarios", "models", "sweep", "unsupported_cases"}},
       {"experiment.scenarios[]", {"file", "role", "models_add"}},
       {"experiment.sweep", {"mode", "cases", "factors"}},
       {"experiment.sweep.factors[]", {"key", "label", "values", "value_names", "role"}},

@@ -25,12 +25,18 @@ nlohmann::json Experiment::to_json() const {
   j["name"] = name;
   j["description"] = description;
   j["reference"] = reference;
+  if (!overrides.empty()) j["overrides"] = overrides;
   j["scenarios"] = nlohmann::json::array();
   for (const Scenario& s : scenarios) {
     nlohmann::json cases = nlohmann::json::array();
     for (const ModelRun& run : s.models) cases.push_back(run.case_name);
     nlohmann::json entry = {{"name", s.name}, {"file", s.file}, {"cases", cases}};
     if (!s.role.empty()) entry["role"] = s.role;
+    if (!s.not_run.empty()) {
+      entry["not_run"] = nlohmann::json::array();
+      for (const auto& [case_name, reason] : s.not_run)
+        entry["not_run"].push_back({{"case", case_name}, {"reason", reason}});
+    }
     if (!s.sweep_base.empty())
       entry["sweep"] = {{"base", s.sweep_base}, {"values", s.sweep_values}, {"keys", s.sweep_keys}};
     j["scenarios"].push_back(entry);
@@ -428,10 +434,49 @@ nlohmann::json what_runs(const Scenario& s) {
 
 }  // namespace
 
-Experiment load_experiment(const std::string& path, const DataDir& data) {
+namespace {
+
+/// `tissuebench run --set`: each [key, value] set in the scenario document, recorded
+/// as given on the command line (the document's origin of the key).
+void apply_overrides(Document& doc, const nlohmann::json& overrides, const std::string& where) {
+  for (const auto& kv : overrides) {
+    const std::string key = kv.at(0).get<std::string>();
+    set_scenario_key(doc.json, key, kv.at(1), where);
+    if (key.rfind("models.", 0) == 0) continue;  // a case's origin stays its file's
+    std::string pointer;
+    for (char c : key) pointer += c == '.' ? '/' : c;
+    doc.origins->record("/" + pointer, kv.at(1), "--set " + key);
+  }
+}
+
+/// An experiment with "unsupported_cases": "skip" runs each of its cases only on
+/// the scenarios whose loads and tools its model takes (a benchmark suite lists
+/// every model once); the others are recorded with the reason, for the analysis.
+/// The reference may not be left out.
+void leave_out_unsupported(Scenario& s, const std::string& reference, const std::string& where) {
+  const LoadCase load_case = s.load_case();
+  std::vector<ModelRun> kept;
+  for (ModelRun& run : s.models) {
+    try {
+      check_supported(find_model(run.model), load_case);
+      kept.push_back(std::move(run));
+    } catch (const std::invalid_argument& unsupported) {
+      if (run.case_name == reference)
+        throw ScenarioError(where + ": scenario '" + s.name + "': the reference case '" + reference +
+                            "' cannot run it: " + unsupported.what());
+      s.not_run.emplace_back(run.case_name, unsupported.what());
+    }
+  }
+  s.models = std::move(kept);
+}
+
+}  // namespace
+
+Experiment load_experiment(const std::string& path, const DataDir& data, const nlohmann::json& overrides) {
   const nlohmann::json j = read_json(path);
   const std::string where = file_name(path);
   Experiment e;
+  e.overrides = overrides;
   if (j.is_object() && j.contains("scenarios")) {
     StrictObject o(j, where);
     o.in_schema("experiment");
@@ -446,6 +491,7 @@ Experiment load_experiment(const std::string& path, const DataDir& data) {
     if (!models.is_null() && (!models.is_array() || models.empty()))
       o.fail("models", "must be a non-empty array of cases (as a scenario's \"models\")");
     const nlohmann::json& sweep = o.raw("sweep");
+    const bool skip_unsupported = o.text("unsupported_cases", "error", {"error", "skip"}) == "skip";
     o.finish();
     std::vector<std::string> roles;
     for (size_t i = 0; i < list.size(); ++i) {
@@ -480,6 +526,7 @@ Experiment load_experiment(const std::string& path, const DataDir& data) {
         throw ScenarioError(entry_where + ": '" + relative + "': no such scenario file (" + file + ")");
       Document doc = read_scenario_document(file);
       combine_models(doc, models, added, path, entry_where);
+      apply_overrides(doc, overrides, entry_where);
       if (sweep.is_null()) {
         e.scenarios.push_back(parse_scenario(doc, file, data));
         e.scenarios.back().role = role;
@@ -514,10 +561,13 @@ Experiment load_experiment(const std::string& path, const DataDir& data) {
       for (size_t k = 0; k < i; ++k)
         if (e.scenarios[i].name == e.scenarios[k].name)
           o.fail("scenarios", "two scenarios are named '" + e.scenarios[i].name + "'");
+    if (skip_unsupported)
+      for (Scenario& s : e.scenarios) leave_out_unsupported(s, e.reference, where);
   } else {
     // A scenario file run alone is an experiment of one scenario; it may name its
     // reference case too.
     Document doc = read_scenario_document(path);
+    apply_overrides(doc, overrides, where);
     if (doc.json.is_object() && doc.json.contains("reference")) {
       if (!doc.json["reference"].is_string()) throw ScenarioError(where + ": reference: must be a case name (string)");
       e.reference = doc.json["reference"].get<std::string>();

@@ -59,6 +59,9 @@ struct Scenario {
   int series_every = 0;         ///< > 0: a dynamic case writes its surface every N frames (.pvd + .vtu)
   double top_tolerance = 1e-9;  ///< m
   std::vector<ModelRun> models;
+  /// Cases left out because their model does not take one of the scenario's loads
+  /// or tools (an experiment with "unsupported_cases": "skip"): {case, reason}.
+  std::vector<std::pair<std::string, std::string>> not_run;
   /// Set when the scenario is a point of a sweep (sweep.h): its base scenario's
   /// name, and {label: value} / {label: key path} of the factors set.
   std::string sweep_base;
@@ -101,6 +104,9 @@ struct Experiment {
   /// empty: none declared.
   std::string reference;
   std::vector<Scenario> scenarios;
+  /// Values set in every scenario by `tissuebench run --set KEY=VALUE`, in order
+  /// ([[key, value], ...]); recorded in experiment.json.
+  nlohmann::json overrides = nlohmann::json::array();
 
   /// What the analysis needs to know of the experiment (written as
   /// results/<name>/experiment.json): name, description, reference, and per
@@ -112,6 +118,9 @@ struct Experiment {
 /// following scenario files' "extends" and combining an experiment's "models"
 /// with each scenario's (docs/scenario_schema.md). Data references are read from
 /// `data`. Throws ScenarioError naming the file and key.
-Experiment load_experiment(const std::string& path, const DataDir& data = data_dir());
+/// `overrides` ([[dotted key, value], ...]) are set in every scenario after its
+/// `extends` and the experiment's models are applied (set_scenario_key, sweep.h).
+Experiment load_experiment(const std::string& path, const DataDir& data = data_dir(),
+                           const nlohmann::json& overrides = nlohmann::json::array());
 
 }  // namespace tb

@@ -59,7 +59,8 @@ bool model_declares(const nlohmann::json& model_entry, const std::string& parame
 }
 
 /// Sets the factor's value in a copy of the scenario JSON.
-void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& value, const std::string& where) {
+void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& value, const std::string& where,
+           const char* what = "sweep key") {
   const std::vector<std::string> parts = split(f.key);
   try {
     if (parts.size() >= 3 && parts[0] == "models") {
@@ -81,7 +82,7 @@ void apply(nlohmann::json& scenario, const Factor& f, const nlohmann::json& valu
   } catch (const ScenarioError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ScenarioError(where + ": sweep key '" + f.key + "': " + e.what());
+    throw ScenarioError(where + ": " + what + " '" + f.key + "': " + e.what());
   }
 }
 
@@ -229,6 +230,13 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
     }
   }
   return points;
+}
+
+void set_scenario_key(nlohmann::json& scenario, const std::string& key, const nlohmann::json& value,
+                      const std::string& where) {
+  Factor f;
+  f.key = key;
+  apply(scenario, f, value, where, "--set");
 }
 
 }  // namespace tb

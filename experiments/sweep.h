@@ -39,4 +39,10 @@ std::vector<SweepPoint> expand_sweep(const nlohmann::json& sweep, const nlohmann
                                      const std::string& base_name, const std::string& reference,
                                      const std::string& where);
 
+/// Sets `value` at the dotted `key` of one scenario JSON, with a sweep factor's
+/// rules (`models.<case or *>.<path>` for cases): `tissuebench run --set`. Throws
+/// ScenarioError naming `where` and the key.
+void set_scenario_key(nlohmann::json& scenario, const std::string& key, const nlohmann::json& value,
+                      const std::string& where);
+
 }  // namespace tb

@@ -44,6 +44,22 @@ int command_models() {
   return 0;
 }
 
+/// `--set KEY=VALUE` arguments as [[key, value], ...]: VALUE parsed as JSON (a
+/// number, an array, true), else taken as a string.
+nlohmann::json overrides_of(const std::vector<std::string>& settings) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& s : settings) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw tb::ScenarioError("--set " + s + ": expected KEY=VALUE (e.g. frames.max=200)");
+    const std::string text = s.substr(eq + 1);
+    nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+    if (value.is_discarded()) value = text;
+    out.push_back({s.substr(0, eq), value});
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,6 +90,12 @@ int main(int argc, char** argv) {
   run->add_option("--model", only, "run only this case or model name");
   std::string only_scenario;
   run->add_option("--scenario", only_scenario, "run only the scenario of this name");
+  std::vector<std::string> settings;
+  run->add_option("--set", settings,
+                  "KEY=VALUE: set a scenario key in every scenario (a dotted path, as a sweep factor's key, e.g. "
+                  "frames.max=200 or models.vbd.parameters.iterations=5; VALUE read as JSON, else as a string); "
+                  "repeatable; experiment.json records them")
+      ->allow_extra_args(false);
   bool no_mesh_output = false;
   run->add_flag("--no-mesh-output", no_mesh_output, "do not write the built meshes beside the results");
   run->add_flag("--quiet", quiet, "no progress on stderr");
@@ -149,7 +171,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (run->parsed()) {
-      const tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag));
+      const tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag), overrides_of(settings));
       tb::RunOptions opt;
       opt.out_dir = out_dir;
       opt.index_only = index_only;

@@ -35,13 +35,15 @@ class Scenarios : public ::testing::Test {
     std::ofstream(p) << j.dump(2);
     return p;
   }
-  void expect_error(const nlohmann::json& j, const std::string& message) {
-    const std::string p = write("bad.json", j);
+  void expect_error(const nlohmann::json& j, const std::string& message) { expect_error_in(j, "bad.json", message); }
+  /// Loading `j` written as `file` is an error naming the file and `message`.
+  void expect_error_in(const nlohmann::json& j, const std::string& file, const std::string& message) {
+    const std::string p = write(file, j);
     try {
       load_experiment(p);
       FAIL() << "accepted: " << message;
     } catch (const ScenarioError& e) {
-      EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
     }
   }

@@ -102,6 +102,86 @@ TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
                      "'max' is used by two factors");
 }
 
+// A suite lists every model once: with "unsupported_cases": "skip" a case runs only
+// where its model takes the scenario's tools; the others are listed with the reason.
+TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSaysSkip) {
+  nlohmann::json grasped = small_cube();
+  grasped["name"] = "grasped";
+  grasped.erase("load");
+  grasped["tools"] = nlohmann::json::parse(
+      R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
+  grasped["models"] = nlohmann::json::array();
+  grasped["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+  write("grasped.json", grasped);
+  nlohmann::json loaded = small_cube();
+  loaded["models"] = nlohmann::json::array();
+  loaded["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+  write("small.json", loaded);
+  nlohmann::json experiment = {{"name", "suite"},
+                               {"reference", "fem-direct"},
+                               {"unsupported_cases", "skip"},
+                               {"scenarios", {"small.json", "grasped.json"}},
+                               {"models", {{{"name", "condensed"}, {"model", "condensed"}}, {{"model", "pbd"}}}}};
+  const Experiment e = load_experiment(write("suite.json", experiment));
+  ASSERT_EQ(e.scenarios.size(), 2u);
+  EXPECT_EQ(e.scenarios[0].models.size(), 3u);  // the point load: every model takes it
+  EXPECT_TRUE(e.scenarios[0].not_run.empty());
+  ASSERT_EQ(e.scenarios[1].models.size(), 2u);  // the grasp: condensed takes no tools
+  EXPECT_EQ(e.scenarios[1].models[0].case_name, "pbd");
+  ASSERT_EQ(e.scenarios[1].not_run.size(), 1u);
+  EXPECT_EQ(e.scenarios[1].not_run[0].first, "condensed");
+  EXPECT_NE(e.scenarios[1].not_run[0].second.find("does not take grasp"), std::string::npos)
+      << e.scenarios[1].not_run[0].second;
+  const nlohmann::json index = e.to_json();
+  EXPECT_EQ(index["scenarios"][1]["not_run"][0]["case"], "condensed");
+  EXPECT_FALSE(index["scenarios"][0].contains("not_run"));
+  // Without the key, an unsupported case stays in and fails when it runs (the default).
+  experiment.erase("unsupported_cases");
+  EXPECT_EQ(load_experiment(write("suite.json", experiment)).scenarios[1].models.size(), 3u);
+  // The reference may not be left out.
+  experiment["unsupported_cases"] = "skip";
+  experiment["reference"] = "condensed";
+  experiment["scenarios"] = {"grasped.json"};
+  try {
+    load_experiment(write("suite.json", experiment));
+    FAIL() << "a reference that cannot run a scenario was left out";
+  } catch (const ScenarioError& err) {
+    EXPECT_NE(std::string(err.what()).find("reference case 'condensed' cannot run it"), std::string::npos)
+        << err.what();
+  }
+  experiment["unsupported_cases"] = "sometimes";
+  expect_error_in(experiment, "suite.json", "unsupported_cases");
+}
+
+// tissuebench run --set: one value set in every scenario, as a sweep factor would,
+// recorded in experiment.json; a key the loader does not know is an error naming it.
+TEST_F(Scenarios, OverridesSetAKeyInEveryScenarioAndAreRecorded) {
+  write("small.json", small_cube());
+  nlohmann::json second = small_cube();
+  second["name"] = "second";
+  write("second.json", second);
+  const std::string path = write("two.json", {{"name", "two"}, {"scenarios", {"small.json", "second.json"}}});
+  const nlohmann::json overrides =
+      nlohmann::json::parse(R"([["frames.max", 7], ["models.pbd.parameters.iterations", 3]])");
+  const Experiment e = load_experiment(path, data_dir(), overrides);
+  for (const Scenario& s : e.scenarios) {
+    EXPECT_EQ(s.max_frames, 7) << s.name;
+    EXPECT_EQ(s.models[1].parameters.integer("iterations"), 3) << s.name;
+    EXPECT_EQ(s.models[2].parameters.integer("iterations"), 10) << s.name;  // the hybrid keeps its default
+  }
+  EXPECT_EQ(e.to_json()["overrides"], overrides);
+  EXPECT_FALSE(load_experiment(path).to_json().contains("overrides"));
+  try {
+    load_experiment(path, data_dir(), nlohmann::json::parse(R"([["frames.bogus", 1]])"));
+    FAIL() << "an unknown key was accepted";
+  } catch (const ScenarioError& err) {
+    EXPECT_NE(std::string(err.what()).find("unknown key 'bogus' (set in --set frames.bogus)"), std::string::npos)
+        << err.what();
+  }
+  EXPECT_THROW(load_experiment(path, data_dir(), nlohmann::json::parse(R"([["models.nope.parameters.x", 1]])")),
+               ScenarioError);
+}
+
 TEST_F(Scenarios, SupportAsLowestFractionAndLoadAtTheHighestVertex) {
   auto j = small_cube();
   j["support"] = {{"lowest_fraction", 0.25}};
