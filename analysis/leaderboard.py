@@ -1,0 +1,290 @@
+"""The suite's leaderboard: every case of every scenario of experiments/suite.json
+scored against its scenario's reference case (and, on the Truth Cube, against the
+CT-tracked beads), then, per scenario and per-frame time budget, the most accurate
+case that fits the budget.
+
+Usage: /usr/bin/python3 analysis/leaderboard.py [RESULTS/suite] [OUT] [--data-dir DIR]
+
+Reads only the results tree (results_index.py): the cases, their models and
+parameters, the scenario roles and the reference come from experiment.json and each
+case's run.json, so a model added to the suite (or run on it with --model) gets its
+rows without an edit here. Writes OUT/tables/suite_scores.{md,csv} (every case, every
+metric), OUT/tables/leaderboard.{md,csv} (per scenario and budget) and
+OUT/figures/suite_<role>.png (time per frame against error, the Pareto front drawn).
+docs/suite.md says what each number means.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_index  # noqa: E402
+import truth_cube  # noqa: E402
+from results_index import ResultsError  # noqa: E402
+from table_io import case_legend, fmt, machine_note, write_table  # noqa: E402
+
+BUDGETS_MS = (0.1, 1.0, 16.0)
+TRUTH_CUBE_ROLE_PREFIX = "truth_cube"
+
+
+def sig(x):
+    """An error to three significant digits (errors span 1e-8 to 1); n/a when not a number."""
+    return "n/a" if x is None or x != x else f"{x:.3g}"
+
+
+def read_csv_rows(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def probe_displacements(folder):
+    """#P x 3 displacements (m) of the case's probes.csv, or None when it wrote none."""
+    path = os.path.join(folder, "probes.csv")
+    if not os.path.isfile(path):
+        return None
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return data[:, 1:4]
+
+
+def final_tool_forces(folder):
+    """{tool key: force (N, 3-vector)} at the last frame of reactions.csv (the support
+    left out: it is not an instrument), or {} when the case wrote none."""
+    path = os.path.join(folder, "reactions.csv")
+    if not os.path.isfile(path):
+        return {}
+    header, rows = read_csv_rows(path)
+    if not rows:
+        return {}
+    last = max(int(r[0]) for r in rows)
+    return {r[1]: np.array([float(v) for v in r[3:6]]) for r in rows
+            if int(r[0]) == last and r[1] != "support"}
+
+
+def tool_force_error(case_forces, ref_forces):
+    """(largest |F - F_ref| over the tools in N, the same relative to |F_ref|), NaN
+    when the case measures no force on a tool the reference measures (PBD's grasps)."""
+    if not ref_forces:
+        return float("nan"), float("nan")
+    abs_err, rel_err = [], []
+    for key, f_ref in ref_forces.items():
+        f = case_forces.get(key)
+        if f is None or not np.all(np.isfinite(f)):
+            return float("nan"), float("nan")
+        abs_err.append(float(np.linalg.norm(f - f_ref)))
+        rel_err.append(abs_err[-1] / float(np.linalg.norm(f_ref)) if np.linalg.norm(f_ref) > 0 else float("nan"))
+    return max(abs_err), max(rel_err)
+
+
+def peak_memory_mib(case):
+    t = case["timings"]
+    return t.get("processes", {}).get("peak_rss_mib_max", t.get("build", {}).get("peak_memory_mib", float("nan")))
+
+
+class Beads:
+    """The Truth Cube's table, read once from the data directory (truth_cube.py)."""
+
+    def __init__(self, data_flag):
+        path = os.path.join(truth_cube.data_dir(data_flag), "data", "truthcube", "uniaxial_positions.csv")
+        self.grid, self.positions, self.strains = truth_cube.read_table(path)
+
+    def rms_mm(self, case):
+        beads = truth_cube.case_beads(case, self.positions, self.strains)
+        if beads is None:
+            return float("nan")
+        return truth_cube.errors(*beads, self.grid)["rms"]
+
+
+def score_case(exp, scenario, name, ref_name, beads):
+    """Every metric of one case (docs/suite.md)."""
+    cases = exp.scenario(scenario)
+    case, ref = cases[name], cases[ref_name]
+    run, timings = case["run"], case["timings"]
+    m = results_index.case_metrics(case, ref) if name != ref_name else {"rel_l2": 0.0, "max_error": 0.0}
+    u_ref = probe_displacements(ref["folder"])
+    u = probe_displacements(case["folder"])
+    probe_err = (float(np.sqrt(np.mean(np.sum((u - u_ref) ** 2, axis=1)))) * 1000
+                 if u is not None and u_ref is not None else float("nan"))
+    force_abs, force_rel = tool_force_error(final_tool_forces(case["folder"]), final_tool_forces(ref["folder"]))
+    dynamic = run.get("dynamic", False)
+    return {
+        "case": name, "model": run["model"],
+        "rel_l2": m["rel_l2"], "max_error_mm": m["max_error"] * 1000,
+        "probe_error_mm": probe_err,
+        "tool_force_error_n": force_abs, "tool_force_error_rel": force_rel,
+        "bead_rms_mm": beads.rms_mm(case) if beads is not None else float("nan"),
+        "median_ms": timings["step"]["median_ms"], "p95_ms": timings["step"]["p95_ms"],
+        "setup_ms": timings.get("setup_ms", float("nan")), "peak_mib": peak_memory_mib(case),
+        "frames": run.get("frames"),
+        "settled": (bool(run.get("reached_steady_state")) if dynamic else True),
+    }
+
+
+def accuracy_key(role):
+    """What a scenario ranks by: the beads on the Truth Cube, else the surface field."""
+    return "bead_rms_mm" if role.startswith(TRUTH_CUBE_ROLE_PREFIX) else "rel_l2"
+
+
+def pareto_front(points):
+    """The (time, error) points no other point beats in both, sorted by time."""
+    front, best = [], math.inf
+    for t, err, label in sorted(points):
+        if err < best:
+            front.append((t, err, label))
+            best = err
+    return front
+
+
+def best_within(scores, key, budget):
+    """The most accurate case (not the reference) whose median frame fits the budget, or None."""
+    fits = [s for s in scores if not s["is_reference"] and s["median_ms"] <= budget and math.isfinite(s[key])]
+    return min(fits, key=lambda s: s[key]) if fits else None
+
+
+def not_run_cases(exp, scenario):
+    """[(case, reason)]: cases the suite lists but did not run here (skipped or failed)."""
+    out = []
+    for entry in exp.listed_points:
+        if entry["name"] == scenario:
+            out += [(n["case"], n["reason"]) for n in entry.get("not_run", [])]
+    for case in exp.listed_cases.get(scenario, []):
+        if case not in exp.scenario(scenario):
+            out.append((case, "failed: " + (exp.failure(scenario, case) or "no results")))
+    return out
+
+
+def figure(role, scenario, scores, key, out_dir):
+    from vtu_plot import DPI, plt
+    floor = 1e-4 if key == "rel_l2" else 1e-2
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    points = []
+    for s in scores:
+        if s["is_reference"] or not math.isfinite(s[key]):
+            continue
+        err = max(s[key], floor)
+        points.append((s["median_ms"], err, s["case"]))
+        ax.scatter(s["median_ms"], err, marker="o" if s["settled"] else "x")
+        ax.annotate(s["case"], (s["median_ms"], err), fontsize=7)
+    front = pareto_front(points)
+    if front:
+        ax.step([p[0] for p in front], [p[1] for p in front], where="post", color="k", alpha=0.4, label="Pareto front")
+    for b in BUDGETS_MS:
+        ax.axvline(b, color="grey", ls=":", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("median per-frame time (ms); dotted: the budgets 0.1, 1, 16 ms")
+    ax.set_ylabel("bead RMS error (mm)" if key == "bead_rms_mm" else f"relative L2 error vs reference (floored at {floor:g})")
+    ax.set_title(f"{scenario}: time vs accuracy (x: not settled)")
+    ax.grid(alpha=0.3, which="both")
+    if front:
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"suite_{role}.png")
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def make(results, out, data_flag, figures=True):
+    """Writes the tables (and figures); returns {role: [scores]}."""
+    exp = results_index.Experiment(results)
+    ref_name = exp.require_reference()
+    beads = None
+    everything, score_rows, board_rows, notes = {}, [], [], []
+    roles = [r for r in exp.roles if exp.roles[r] and exp.roles[r][0] in exp.scenarios]
+    if not roles:
+        raise ResultsError(f"{results}: no scenario with a role has results")
+    for role in roles:
+        scenario = exp.scenario_name(role)
+        key = accuracy_key(role)
+        if key == "bead_rms_mm" and beads is None:
+            beads = Beads(data_flag)
+        if ref_name not in exp.scenario(scenario):  # a partial run, or the reference failed: nothing to score against
+            why = exp.failure(scenario, ref_name) or "not run yet"
+            notes.append(f"- {role}: not scored: its reference case '{ref_name}' has no results ({why})")
+            continue
+        scores = []
+        for name in exp.scenario(scenario):
+            s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None)
+            s["is_reference"] = name == ref_name
+            scores.append(s)
+        everything[role] = scores
+        for s in scores:
+            score_rows.append([role, s["case"], s["model"], sig(s["rel_l2"]), sig(s["max_error_mm"]),
+                               sig(s["probe_error_mm"]), sig(s["tool_force_error_n"]), sig(s["tool_force_error_rel"]),
+                               sig(s["bead_rms_mm"]), fmt(s["median_ms"]), fmt(s["p95_ms"]), fmt(s["setup_ms"]),
+                               fmt(s["peak_mib"]), str(s["frames"]), "yes" if s["settled"] else "no"])
+        ref = next(s for s in scores if s["is_reference"])
+        row = [role, ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
+        for budget in BUDGETS_MS:
+            best = best_within(scores, key, budget)
+            row.append("none fits" if best is None else
+                       f"{best['case']} {sig(best[key])}{'' if best['settled'] else ' (not settled)'}")
+        board_rows.append(row)
+        skipped = not_run_cases(exp, scenario)
+        if skipped:
+            notes.append(f"- {role}: not run: " + "; ".join(f"{c} ({r})" for c, r in skipped))
+        if figures:
+            os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+            figure(role, scenario, scores, key, os.path.join(out, "figures"))
+    tables = os.path.join(out, "tables")
+    if not everything:
+        raise ResultsError(f"{results}: no scenario has its reference case's results")
+    all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.scenario(exp.scenario_name(role)).items()}
+    machine = machine_note(all_cases, "threads as each case's parameters say (one unless a `threads` is given)")
+    legend = case_legend({c["name"]: c for c in all_cases.values()})
+    write_table(tables, "suite_scores",
+                ["role", "case", "model", "rel L2 vs reference", "max error (mm)", "probe error (mm)",
+                 "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "median (ms)", "p95 (ms)",
+                 "setup (ms)", "peak memory (MiB)", "frames", "settled"],
+                score_rows, machine + "\n\n" + legend)
+    write_table(tables, "leaderboard",
+                ["scenario (role)", "reference (ranked by)"] + [f"best within {b:g} ms" for b in BUDGETS_MS],
+                board_rows,
+                "Each cell: the case with the smallest error among those whose median frame fits the budget, "
+                "and that error (relative L2 of the observed surface against the scenario's reference case; "
+                "on the Truth Cube, the RMS bead error in mm). " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
+    return everything
+
+
+README_BEGIN = "<!-- leaderboard:begin (written by analysis/leaderboard.py --readme) -->"
+README_END = "<!-- leaderboard:end -->"
+
+
+def update_readme(path, tables_dir):
+    """Copies results/tables/leaderboard.md between the README's leaderboard markers."""
+    with open(path) as f:
+        text = f.read()
+    if README_BEGIN not in text or README_END not in text:
+        raise ResultsError(f"{path}: no leaderboard markers ({README_BEGIN} ... {README_END})")
+    with open(os.path.join(tables_dir, "leaderboard.md")) as f:
+        table = f.read().strip()
+    head, rest = text.split(README_BEGIN, 1)
+    _, tail = rest.split(README_END, 1)
+    with open(path, "w") as f:
+        f.write(head + README_BEGIN + "\n" + table + "\n" + README_END + tail)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", nargs="?", default="results/suite")
+    parser.add_argument("out", nargs="?", default="results")
+    parser.add_argument("--data-dir", default=None)
+    parser.add_argument("--no-figures", action="store_true")
+    parser.add_argument("--readme", default=None, help="also copy the leaderboard into this README's markers")
+    a = parser.parse_args()
+
+    def run():
+        make(a.results, a.out, a.data_dir, not a.no_figures)
+        if a.readme:
+            update_readme(a.readme, os.path.join(a.out, "tables"))
+    results_index.main(run, "leaderboard")
+    print(f"leaderboard written to {a.out}/tables/leaderboard.md")
+
+
+if __name__ == "__main__":
+    main()

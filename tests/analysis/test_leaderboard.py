@@ -1,0 +1,172 @@
+"""analysis/leaderboard.py and analysis/suite_gates.py on a small results tree: every
+case scored against its scenario's reference, the best case within each budget, a
+model the scripts do not name flowing through, and the two-sided gates catching a
+change in either direction."""
+import copy
+import csv
+import io
+import json
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "analysis"))
+import leaderboard  # noqa: E402
+import suite_gates  # noqa: E402
+
+REST = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]], float)
+U_REF = np.array([[0, 0, 4], [0, 0, 2], [0, 0, 2], [0, 0, 1]], float) * 1e-3
+BUILD = {"cpu_model": "test cpu", "hardware_threads": 2, "build_type": "Release", "compiler": "g++",
+         "git_commit": "abc"}
+
+
+def write_case(exp, scenario, case, model, u, median_ms, probes=None, tool_force=None, dynamic=False, settled=True):
+    d = os.path.join(exp, scenario, case)
+    os.makedirs(d)
+    with open(os.path.join(d, "top_surface.csv"), "w") as f:
+        f.write("vertex,x,y,z,ux,uy,uz\n")
+        for i, (p, q) in enumerate(zip(REST, u)):
+            f.write(f"{i},{p[0]},{p[1]},{p[2]},{q[0]},{q[1]},{q[2]}\n")
+    if probes is not None:
+        with open(os.path.join(d, "probes.csv"), "w") as f:
+            f.write("probe,ux,uy,uz\n")
+            for i, q in enumerate(probes):
+                f.write(f"{i},{q[0]},{q[1]},{q[2]}\n")
+    if tool_force is not None:
+        with open(os.path.join(d, "reactions.csv"), "w") as f:
+            f.write("frame,key,kind,fx,fy,fz\n")
+            f.write("0,tools[0],grasp,0,0,0\n")
+            f.write(f"1,tools[0],grasp,{tool_force[0]},{tool_force[1]},{tool_force[2]}\n")
+            f.write("1,support,support,0,0,1\n")
+    run = {"model": model, "parameters": {}, "parameters_given": {}, "dynamic": dynamic, "frames": 40,
+           "reached_steady_state": settled if dynamic else None,
+           "scenario_resolved": {"load": {"point": [0, 0, 1]}}, "build": BUILD}
+    with open(os.path.join(d, "run.json"), "w") as f:
+        json.dump(run, f)
+    with open(os.path.join(d, "timings.json"), "w") as f:
+        json.dump({"step": {"median_ms": median_ms, "p95_ms": 1.5 * median_ms}, "setup_ms": 3.0,
+                   "processes": {"peak_rss_mib_max": 100.0}}, f)
+
+
+def write_suite(tmp, extra_scale=None):
+    """Two scenarios (a disc load; a grasp with a probe) and their cases; with
+    extra_scale, a case 'mymodel' of a model no script names, its field the
+    reference's times extra_scale."""
+    exp = os.path.join(tmp, "suite")
+    cases = {"pull": [], "grasp": []}
+    for scenario, probes, force in (("pull", None, None), ("grasp", [[0, 0, 0.002]], [0, 0, -2.0])):
+        def add(case, model, scale, median, dynamic=False, settled=True, measured_force=True):
+            write_case(exp, scenario, case, model, scale * U_REF, median,
+                       probes=None if probes is None else scale * np.array(probes),
+                       tool_force=None if force is None else (np.array(force) * scale if measured_force
+                                                              else [float("nan")] * 3),
+                       dynamic=dynamic, settled=settled)
+            cases[scenario].append(case)
+        add("reference", "fem", 1.0, 300.0)
+        add("fem-linear", "fem", 0.8, 2.0)
+        add("embedded", "embedded", 0.5, 0.05)
+        add("vbd", "vbd", 0.99, 60.0, dynamic=True, settled=(scenario == "pull"))
+        add("pbd", "pbd", 0.3, 0.3, dynamic=True, measured_force=False)
+        if extra_scale is not None:
+            add("mymodel", "my_model", extra_scale, 0.5)
+    index = {"name": "suite", "reference": "reference",
+             "scenarios": [{"name": "pull", "role": "cube_pull_disc", "cases": cases["pull"]},
+                           {"name": "grasp", "role": "torus_grasp", "cases": cases["grasp"] + ["condensed"],
+                            "not_run": [{"case": "condensed", "reason": "model 'condensed' does not take grasp"}]}]}
+    with open(os.path.join(exp, "experiment.json"), "w") as f:
+        json.dump(index, f)
+    return exp
+
+
+def read_rows(path):
+    with open(path) as f:
+        return list(csv.reader(f))
+
+
+class Leaderboard(unittest.TestCase):
+    def test_scores_budgets_and_an_extra_model(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp, extra_scale=0.9)
+            scores = leaderboard.make(exp, tmp, None)
+            by_case = {s["case"]: s for s in scores["torus_grasp"]}
+            self.assertAlmostEqual(by_case["fem-linear"]["rel_l2"], 0.2)
+            self.assertAlmostEqual(by_case["fem-linear"]["probe_error_mm"], 0.4)
+            self.assertAlmostEqual(by_case["fem-linear"]["tool_force_error_n"], 0.4)
+            self.assertAlmostEqual(by_case["fem-linear"]["tool_force_error_rel"], 0.2)
+            self.assertTrue(np.isnan(by_case["pbd"]["tool_force_error_n"]))  # not measured: never a number
+            self.assertFalse(by_case["vbd"]["settled"])
+            self.assertAlmostEqual(by_case["mymodel"]["rel_l2"], 0.1)  # no script names it
+            board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
+            # 0.1 ms: only embedded fits; 1 ms: the extra model (0.5 ms, error 0.1) beats embedded and pbd;
+            # 16 ms: fem-linear (0.2) loses to it too; vbd (60 ms) fits no budget.
+            self.assertEqual(board["cube_pull_disc"][2:], ["embedded 0.5", "mymodel 0.1", "mymodel 0.1"])
+            with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
+                md = f.read()
+            self.assertIn("torus_grasp: not run: condensed (model 'condensed' does not take grasp)", md)
+            self.assertTrue(os.path.isfile(os.path.join(tmp, "figures", "suite_torus_grasp.png")))
+            readme = os.path.join(tmp, "README.md")
+            with open(readme, "w") as f:
+                f.write(f"intro\n{leaderboard.README_BEGIN}\nold table\n{leaderboard.README_END}\nrest\n")
+            leaderboard.update_readme(readme, os.path.join(tmp, "tables"))
+            with open(readme) as f:
+                text = f.read()
+            self.assertNotIn("old table", text)
+            self.assertIn("| cube_pull_disc | fem (field) | embedded 0.5 |", text)
+            self.assertTrue(text.startswith("intro\n") and text.endswith("rest\n"))
+
+    def test_pareto_front_keeps_only_undominated_points(self):
+        front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
+        self.assertEqual([p[2] for p in front], ["d", "a", "c"])
+
+
+class SuiteGates(unittest.TestCase):
+    def gates_for(self, exp, tmp):
+        path = os.path.join(tmp, "gates.json")
+        with open(path, "w") as f:
+            json.dump({"source": "test", "rtol": 1e-3, "reference": "reference", "overrides": [], "values": {}}, f)
+        suite_gates.record(exp, path, "abc")
+        return path
+
+    def check(self, exp, gates):
+        out = io.StringIO()
+        return suite_gates.check(exp, gates, out=out), out.getvalue()
+
+    def test_a_change_fails_in_either_direction(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            gates = self.gates_for(write_suite(os.path.join(tmp, "a"), extra_scale=0.9), tmp)
+            ok, text = self.check(write_suite(os.path.join(tmp, "b"), extra_scale=0.9), gates)
+            self.assertTrue(ok, text)
+            # Closer to the reference (error 0.1 -> 0.095), yet a changed answer: caught.
+            ok, text = self.check(write_suite(os.path.join(tmp, "c"), extra_scale=0.905), gates)
+            self.assertFalse(ok)
+            self.assertIn("FAIL  cube_pull_disc/mymodel rel_l2", text)
+            self.assertIn("FAIL  cube_pull_disc/mymodel u_rms_mm", text)
+            self.assertIn("FAIL  torus_grasp/mymodel tool_force_n:tools[0]", text)
+            # Further from it: caught as well.
+            ok, _ = self.check(write_suite(os.path.join(tmp, "d"), extra_scale=0.89), gates)
+            self.assertFalse(ok)
+            # A case not committed (or committed and gone) fails: a new model is gated from its first commit.
+            ok, text = self.check(write_suite(os.path.join(tmp, "e")), gates)
+            self.assertFalse(ok)
+            self.assertIn("FAIL  cube_pull_disc/mymodel: committed, not in the results", text)
+
+    def test_overrides_must_match_the_recorded_run(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(os.path.join(tmp, "a"))
+            gates = self.gates_for(exp, tmp)
+            with open(gates) as f:
+                g = json.load(f)
+            changed = copy.deepcopy(g)
+            changed["overrides"] = [["frames.max", 100]]
+            with open(gates, "w") as f:
+                json.dump(changed, f)
+            with self.assertRaises(ValueError):
+                self.check(exp, gates)
+
+
+if __name__ == "__main__":
+    unittest.main()
