@@ -3,7 +3,8 @@ scored against its scenario's reference case (and, on the Truth Cube, against th
 CT-tracked beads), then, per scenario and per-frame time budget, the most accurate
 case that fits the budget.
 
-Usage: /usr/bin/python3 analysis/leaderboard.py [RESULTS/suite] [OUT] [--data-dir DIR]
+Usage: /usr/bin/python3 analysis/leaderboard.py [RESULTS/suite] [OUT] [--data-dir DIR] [--with RUNS/suite]
+       [--readme README.md]
 
 Reads only the results tree (results_index.py): the cases, their models and
 parameters, the scenario roles and the reference come from experiment.json and each
@@ -189,10 +190,32 @@ def figure(role, scenario, scores, key, out_dir):
     return path
 
 
-def make(results, out, data_flag, figures=True):
-    """Writes the tables (and figures); returns {role: [scores]}."""
+def add_cases_from(exp, other_results, ref_name):
+    """Cases of another run of the suite (e.g. `tissuebench run experiments/suite.json
+    --model mymodel --out runs`) added to the results' scenarios of the same name;
+    a name the results already hold gets " (new)". Returns the names added."""
+    other = results_index.Experiment(other_results)
+    added = set()
+    for scenario, cases in other.scenarios.items():
+        if scenario not in exp.scenarios:
+            continue
+        for name, case in cases.items():
+            if name == ref_name:
+                continue
+            label = name + " (new)" if name in exp.scenarios[scenario] else name
+            exp.scenarios[scenario][label] = dict(case, name=label)
+            added.add(label)
+    if not added:
+        raise ResultsError(f"{other_results}: no case of a scenario of {exp.root} to add")
+    return added
+
+
+def make(results, out, data_flag, figures=True, with_results=None):
+    """Writes the tables (and figures); returns {role: [scores]}. with_results: a
+    second results tree whose cases are scored beside the first's (add_cases_from)."""
     exp = results_index.Experiment(results)
     ref_name = exp.require_reference()
+    added = add_cases_from(exp, with_results, ref_name) if with_results else set()
     beads = None
     everything, score_rows, board_rows, notes = {}, [], [], []
     roles = [r for r in exp.roles if exp.roles[r] and exp.roles[r][0] in exp.scenarios]
@@ -213,6 +236,11 @@ def make(results, out, data_flag, figures=True):
             s["is_reference"] = name == ref_name
             scores.append(s)
         everything[role] = scores
+        for s in scores:
+            if s["case"] in added:
+                print(f"{role}: {s['case']}: relative L2 {sig(s['rel_l2'])}, bead RMS {sig(s['bead_rms_mm'])} mm, "
+                      f"tool force error {sig(s['tool_force_error_n'])} N, median {fmt(s['median_ms'])} ms "
+                      f"(the committed cases: results/tables/suite_scores.md)")
         for s in scores:
             score_rows.append([role, s["case"], s["model"], sig(s["rel_l2"]), sig(s["max_error_mm"]),
                                sig(s["probe_error_mm"]), sig(s["tool_force_error_n"]), sig(s["tool_force_error_rel"]),
@@ -276,10 +304,12 @@ def main():
     parser.add_argument("--data-dir", default=None)
     parser.add_argument("--no-figures", action="store_true")
     parser.add_argument("--readme", default=None, help="also copy the leaderboard into this README's markers")
+    parser.add_argument("--with", dest="with_results", default=None,
+                        help="another run of the suite (e.g. one model's, --model) scored beside RESULTS")
     a = parser.parse_args()
 
     def run():
-        make(a.results, a.out, a.data_dir, not a.no_figures)
+        make(a.results, a.out, a.data_dir, not a.no_figures, a.with_results)
         if a.readme:
             update_readme(a.readme, os.path.join(a.out, "tables"))
     results_index.main(run, "leaderboard")

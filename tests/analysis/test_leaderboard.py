@@ -118,6 +118,21 @@ class Leaderboard(unittest.TestCase):
             self.assertIn("| cube_pull_disc | fem (field) | embedded 0.5 |", text)
             self.assertTrue(text.startswith("intro\n") and text.endswith("rest\n"))
 
+    def test_a_model_run_alone_is_scored_beside_the_committed_results(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            committed = write_suite(os.path.join(tmp, "committed"))
+            yours = os.path.join(tmp, "yours", "suite")
+            write_case(yours, "pull", "mymodel", "my_model", 0.95 * U_REF, 0.08)
+            with open(os.path.join(yours, "experiment.json"), "w") as f:
+                json.dump({"name": "suite", "reference": "reference",
+                           "scenarios": [{"name": "pull", "role": "cube_pull_disc", "cases": ["mymodel"]}]}, f)
+            out = os.path.join(tmp, "out")
+            scores = leaderboard.make(committed, out, None, figures=False, with_results=yours)
+            self.assertAlmostEqual({s["case"]: s for s in scores["cube_pull_disc"]}["mymodel"]["rel_l2"], 0.05)
+            board = {r[0]: r for r in read_rows(os.path.join(out, "tables", "leaderboard.csv"))[1:]}
+            self.assertEqual(board["cube_pull_disc"][2], "mymodel 0.05")  # 0.08 ms, more accurate than embedded
+            self.assertEqual(board["torus_grasp"][2], "embedded 0.5")  # it did not run there
+
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
         self.assertEqual([p[2] for p in front], ["d", "a", "c"])
