@@ -492,6 +492,7 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
       o.fail("models", "must be a non-empty array of cases (as a scenario's \"models\")");
     const nlohmann::json& sweep = o.raw("sweep");
     const bool skip_unsupported = o.text("unsupported_cases", "error", {"error", "skip"}) == "skip";
+    e.skip_unsupported = skip_unsupported;
     o.finish();
     std::vector<std::string> roles;
     for (size_t i = 0; i < list.size(); ++i) {
@@ -586,6 +587,24 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
         throw ScenarioError(path + ": reference: scenario '" + s.name + "' has no case named '" + e.reference + "'");
     }
   return e;
+}
+
+bool add_model_everywhere(Experiment& e, const std::string& model) {
+  for (const Scenario& s : e.scenarios)
+    for (const ModelRun& run : s.models)
+      if (run.case_name == model || run.model == model) return false;
+  const auto& registered = registered_models();
+  const auto info = std::find_if(registered.begin(), registered.end(), [&](const ModelInfo& m) { return m.name == model; });
+  if (info == registered.end()) return false;  // not a model: the runner says no case matches
+  for (Scenario& s : e.scenarios) {
+    ModelRun run;
+    run.case_name = run.model = model;
+    run.parameters_given = nlohmann::json::object();
+    run.parameters = resolve_parameters(info->parameters, run.parameters_given, "--model " + model);
+    s.models.push_back(run);
+    if (e.skip_unsupported) leave_out_unsupported(s, e.reference, "--model " + model);
+  }
+  return true;
 }
 
 }  // namespace tb

@@ -107,6 +107,8 @@ struct Experiment {
   /// Values set in every scenario by `tissuebench run --set KEY=VALUE`, in order
   /// ([[key, value], ...]); recorded in experiment.json.
   nlohmann::json overrides = nlohmann::json::array();
+  /// "unsupported_cases": "skip" (load_experiment leaves such cases out).
+  bool skip_unsupported = false;
 
   /// What the analysis needs to know of the experiment (written as
   /// results/<name>/experiment.json): name, description, reference, and per
@@ -118,6 +120,13 @@ struct Experiment {
 /// following scenario files' "extends" and combining an experiment's "models"
 /// with each scenario's (docs/scenario_schema.md). Data references are read from
 /// `data`. Throws ScenarioError naming the file and key.
+/// `tissuebench run FILE --model NAME` where NAME is a registered model that no case
+/// of the experiment runs: a case NAME of that model, with its default parameters,
+/// added to every scenario (where it takes the loads and tools, if the experiment
+/// skips unsupported cases), so a model is scored on a whole suite. Returns false
+/// (and changes nothing) when some case already has that name or model.
+bool add_model_everywhere(Experiment& experiment, const std::string& model);
+
 /// `overrides` ([[dotted key, value], ...]) are set in every scenario after its
 /// `extends` and the experiment's models are applied (set_scenario_key, sweep.h).
 Experiment load_experiment(const std::string& path, const DataDir& data = data_dir(),

@@ -171,7 +171,11 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (run->parsed()) {
-      const tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag), overrides_of(settings));
+      tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag), overrides_of(settings));
+      // A registered model the experiment does not run: scored on every scenario (docs/suite.md).
+      if (!only.empty() && tb::add_model_everywhere(e, only) && root)
+        std::cerr << "tissuebench: " << only << " is not a case of " << scenario_file
+                  << ": running it, with its default parameters, on every scenario that takes it\n";
       tb::RunOptions opt;
       opt.out_dir = out_dir;
       opt.index_only = index_only;

@@ -33,9 +33,9 @@ def write_case(exp, scenario, case, model, u, median_ms, probes=None, tool_force
             f.write(f"{i},{p[0]},{p[1]},{p[2]},{q[0]},{q[1]},{q[2]}\n")
     if probes is not None:
         with open(os.path.join(d, "probes.csv"), "w") as f:
-            f.write("probe,ux,uy,uz\n")
+            f.write("probe,x,y,z,ux,uy,uz\n")  # the probe's rest position, then its displacement
             for i, q in enumerate(probes):
-                f.write(f"{i},{q[0]},{q[1]},{q[2]}\n")
+                f.write(f"{i},0.5,0.5,0.5,{q[0]},{q[1]},{q[2]}\n")
     if tool_force is not None:
         with open(os.path.join(d, "reactions.csv"), "w") as f:
             f.write("frame,key,kind,fx,fy,fz\n")

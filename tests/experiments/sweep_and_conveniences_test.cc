@@ -153,6 +153,31 @@ TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSays
   expect_error_in(experiment, "suite.json", "unsupported_cases");
 }
 
+// tissuebench run SUITE --model NAME, NAME a registered model no case runs: a case of
+// it (its defaults) joins every scenario that takes it.
+TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
+  nlohmann::json grasped = small_cube();
+  grasped["name"] = "grasped";
+  grasped.erase("load");
+  grasped["tools"] = nlohmann::json::parse(
+      R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
+  write("grasped.json", grasped);
+  write("small.json", small_cube());
+  const std::string path = write("suite.json", {{"name", "suite"},
+                                                {"reference", "fem-direct"},
+                                                {"unsupported_cases", "skip"},
+                                                {"scenarios", {"small.json", "grasped.json"}}});
+  Experiment e = load_experiment(path);
+  EXPECT_FALSE(add_model_everywhere(e, "pbd"));     // a case runs it already
+  EXPECT_FALSE(add_model_everywhere(e, "no_such"));  // not a model: the runner says no case matches
+  ASSERT_TRUE(add_model_everywhere(e, "condensed"));
+  EXPECT_EQ(e.scenarios[0].models.back().case_name, "condensed");
+  EXPECT_EQ(e.scenarios[0].models.back().parameters.choice("precompute"), "surface_vertices");  // its default
+  ASSERT_EQ(e.scenarios[1].not_run.size(), 1u);  // it takes no grasp
+  EXPECT_EQ(e.scenarios[1].not_run[0].first, "condensed");
+  EXPECT_EQ(e.scenarios[1].models.size(), 3u);
+}
+
 // tissuebench run --set: one value set in every scenario, as a sweep factor would,
 // recorded in experiment.json; a key the loader does not know is an error naming it.
 TEST_F(Scenarios, OverridesSetAKeyInEveryScenarioAndAreRecorded) {
