@@ -82,10 +82,12 @@ def distributed_experiment(folder):
                    {"name": "fem-p2", "model": "fem_distributed", "parameters": {"degree": 2,
                                                                                 "cg_tolerance": 1e-12}}],
     }
+    # Eight loads (sixteen case folders): the ranks of a signalled mpirun take a
+    # moment to end, in which three loads' cases could all be written.
+    forces = [[0, 0, 0.05 * (k + 1)] for k in range(8)]
     experiment = {"name": "interrupted-mpi", "scenarios": [{"file": "dist.json"}],
-                  "sweep": {"factors": [{"key": "load.force", "label": "f", "values": [[0, 0, 0.1], [0, 0, 0.2],
-                                                                                         [0, 0, 0.3]],
-                                         "value_names": ["a", "b", "c"]}]}}
+                  "sweep": {"factors": [{"key": "load.force", "label": "f", "values": forces,
+                                         "value_names": [chr(ord("a") + k) for k in range(8)]}]}}
     write_json(os.path.join(folder, "dist.json"), scenario)
     path = os.path.join(folder, "mpi.json")
     write_json(path, experiment)
