@@ -30,6 +30,15 @@ class Scenarios : public ::testing::Test {
       "models": [{"name": "fem-direct", "model": "fem"}, {"model": "pbd"}, {"model": "hybrid"}]
     })");
   }
+  /// small_cube() held by a grasp instead of loaded (condensed takes no tools).
+  static nlohmann::json grasped_small_cube() {
+    nlohmann::json grasped = small_cube();
+    grasped["name"] = "grasped";
+    grasped.erase("load");
+    grasped["tools"] = nlohmann::json::parse(
+        R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
+    return grasped;
+  }
   std::string write(const std::string& name, const nlohmann::json& j) {
     const std::string p = (dir / name).string();
     std::ofstream(p) << j.dump(2);

@@ -105,11 +105,7 @@ TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
 // A suite lists every model once: with "unsupported_cases": "skip" a case runs only
 // where its model takes the scenario's tools; the others are listed with the reason.
 TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSaysSkip) {
-  nlohmann::json grasped = small_cube();
-  grasped["name"] = "grasped";
-  grasped.erase("load");
-  grasped["tools"] = nlohmann::json::parse(
-      R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
+  nlohmann::json grasped = grasped_small_cube();
   grasped["models"] = nlohmann::json::array();
   grasped["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
   write("grasped.json", grasped);
@@ -156,11 +152,7 @@ TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSays
 // tissuebench run SUITE --model NAME, NAME a registered model no case runs: a case of
 // it (its defaults) joins every scenario that takes it.
 TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
-  nlohmann::json grasped = small_cube();
-  grasped["name"] = "grasped";
-  grasped.erase("load");
-  grasped["tools"] = nlohmann::json::parse(
-      R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
+  nlohmann::json grasped = grasped_small_cube();
   write("grasped.json", grasped);
   write("small.json", small_cube());
   const std::string path = write("suite.json", {{"name", "suite"},
