@@ -5,6 +5,7 @@
 
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -47,7 +48,7 @@ nlohmann::json build_and_machine_info() {
   j["blas_core_pinned"] = std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "";
   j["hardware_threads"] = std::thread::hardware_concurrency();
   j["blas_threads"] = 1;                             // tissuebench's main pins OpenBLAS and OpenMP to one thread
-  j["peak_memory_mib"] = process_peak_memory_mib();  // of the whole process so far
+  j["peak_memory_mib"] = process_peak_memory_mib();  // since the process started or the case's reset
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   j["hostname"] = host;
@@ -56,6 +57,21 @@ nlohmann::json build_and_machine_info() {
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   j["date_utc"] = date;
   return j;
+}
+
+bool reset_peak_memory() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.close();
+  return static_cast<bool>(clear);
+}
+
+double peak_memory_since_reset_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // "VmHWM:  316092 kB"
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 double process_peak_memory_mib() {

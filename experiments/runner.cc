@@ -71,7 +71,10 @@ nlohmann::json to_json(const TimingStats& t) {
 /// Progress on stderr: one updating line on a terminal, plain lines otherwise.
 class Progress {
  public:
-  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO)) {}
+  /// `prefix` starts every line ("rank 1: " under mpirun, whose ranks share a
+  /// terminal: plain lines then, not one updating line).
+  Progress(bool enabled, std::string prefix)
+      : enabled_(enabled), tty_(prefix.empty() && isatty(STDERR_FILENO)), prefix_(std::move(prefix)) {}
   void update(const std::string& label, int frame, int budget, double elapsed_s, bool force = false) {
     if (!enabled_) return;
     const auto now = Clock::now();
@@ -79,7 +82,7 @@ class Progress {
     last_ = now;
     const double rate = elapsed_s > 0 ? frame / elapsed_s : 0;
     std::ostringstream os;
-    os << label << ": frame " << frame << "/" << budget << std::fixed << std::setprecision(0) << ", " << rate
+    os << prefix_ << label << ": frame " << frame << "/" << budget << std::fixed << std::setprecision(0) << ", " << rate
        << " frames/s";
     if (rate > 0 && frame < budget) os << ", at most " << std::setprecision(1) << (budget - frame) / rate << " s left";
     if (tty_)
@@ -90,11 +93,12 @@ class Progress {
   void line(const std::string& text) {
     if (!enabled_) return;
     if (tty_) std::cerr << "\r\033[K";
-    std::cerr << text << "\n";
+    std::cerr << prefix_ << text << "\n";
   }
 
  private:
   bool enabled_, tty_;
+  std::string prefix_;
   Clock::time_point last_{};
 };
 
@@ -115,8 +119,11 @@ std::string csv_of(const Points& rest, const Displacements& u, const std::vector
   return os.str();
 }
 
+/// One case. `writes`: this process writes its files (under mpirun, one process
+/// per case); `shared`: every process runs it together (ModelInfo::spans_ranks).
 CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& mesh, const nlohmann::json& mesh_summary,
-                     const std::string& experiment, const RunOptions& opt, Progress& progress) {
+                     const std::string& experiment, const RunOptions& opt, bool writes, bool shared,
+                     Progress& progress) {
   CaseOutcome out;
   out.scenario = s.name;
   out.case_name = run.case_name;
@@ -126,15 +133,17 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   check_supported(info, problem.load_case);  // an unsupported load or tool stops here, before setup
   std::unique_ptr<Model> model = info.create();
 
+  // The case's own peak memory: from here (the mesh already resident) to its last frame.
+  const bool peak_reset = reset_peak_memory();
   const auto t0 = Clock::now();
   model->setup(problem);
   const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
   // Outputs are staged in a temporary folder and moved into place at the end (by
-  // the writing process only: under mpirun, rank 0).
+  // the writing process only).
   const fs::path dir = fs::path(opt.out_dir) / experiment / s.name / run.case_name;
   const fs::path staging = staging_folder(dir);
-  if (opt.write_outputs) {
+  if (writes) {
     remove_stale_staging(dir);
     fs::remove_all(staging);
     fs::create_directories(staging);
@@ -144,7 +153,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   const double bound = s.divergence_factor * bounding_box_diagonal(rest);
   // Optional ParaView time series of the surface (scenario "output": "series_every").
   std::ostringstream series;
-  const bool write_series = opt.write_outputs && info.dynamic && s.series_every > 0;
+  const bool write_series = writes && info.dynamic && s.series_every > 0;
   if (write_series) fs::create_directories(staging / "series");
   auto snapshot = [&](int frame, const Displacements& u) {
     char name[40];
@@ -207,8 +216,13 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
   }
   if (!info.dynamic) out.steady_frame = std::max(0, changing - 1);
-  const nlohmann::json processes = opt.process_statistics ? opt.process_statistics() : nlohmann::json();
-  if (!opt.write_outputs) {
+  const double peak_memory_mib = peak_memory_since_reset_mib();
+  nlohmann::json processes;
+  if (shared && opt.process_statistics)
+    processes = opt.process_statistics();
+  else if (opt.processes > 1)
+    processes = {{"ranks", 1}, {"dealt_to_process", opt.process}, {"processes", opt.processes}};
+  if (!writes) {
     out.ok = true;
     return out;
   }
@@ -265,6 +279,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
 
   nlohmann::json t;
   t["setup_ms"] = setup_ms;
+  t["peak_memory_mib"] = peak_memory_mib;
+  t["peak_memory_how"] =
+      peak_reset ? "this process's peak resident memory (VmHWM) from the model's setup to its last frame, the "
+                   "mesh included (reset before setup: /proc/self/clear_refs)"
+                 : "this process's peak resident memory since it started (VmHWM; the kernel refused a reset)";
   t["step"] = to_json(timing_stats(step_ms));
   // Frames after the load ramp, i.e. the frames of the steady load only.
   const size_t skip = std::min(step_ms.size(), static_cast<size_t>(changing));
@@ -343,8 +362,58 @@ std::string default_mesh_cache_dir() {
   return "";
 }
 
+namespace {
+
+/// A scenario's mesh built and its tools and probes placed on it, shared by its cases.
+struct PreparedScenario {
+  Scenario resolved;
+  std::shared_ptr<HybridMesh> mesh;
+  nlohmann::json summary;
+  std::string error;  ///< why preparing failed (then every case of the scenario fails with it)
+};
+
+/// Who runs a case (RunOptions::processes): every process together, or one.
+struct CaseAssignment {
+  bool selected = false;  ///< passes --model / --scenario
+  bool shared = false;    ///< its model spans ranks: every process runs it
+  int writer = 0;         ///< the process that runs it alone (dealt), or writes it (shared: 0)
+};
+
+/// The deal: selected cases of models that span ranks to every process, the others
+/// one each, the k-th to process k mod processes.
+std::vector<std::vector<CaseAssignment>> assign_cases(const Experiment& e, const RunOptions& opt) {
+  std::vector<std::vector<CaseAssignment>> plan(e.scenarios.size());
+  int dealt = 0;
+  for (size_t i = 0; i < e.scenarios.size(); ++i) {
+    const Scenario& s = e.scenarios[i];
+    for (const ModelRun& run : s.models) {
+      CaseAssignment a;
+      a.selected = (opt.only_scenario.empty() || opt.only_scenario == s.name) &&
+                   (opt.only_case.empty() || opt.only_case == run.case_name || opt.only_case == run.model);
+      if (a.selected) {
+        a.shared = find_model(run.model).spans_ranks;
+        a.writer = a.shared ? 0 : dealt++ % std::max(1, opt.processes);
+      }
+      plan[i].push_back(a);
+    }
+  }
+  return plan;
+}
+
+void write_failure(const fs::path& file, const std::string& case_name, const std::string& error) {
+  try {
+    write_file_atomically(file.string(), nlohmann::json({{"case", case_name}, {"error", error}}).dump(2) + "\n");
+  } catch (const std::exception&) {
+    // the failure is reported on stderr and in the exit status already
+  }
+}
+
+}  // namespace
+
 std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& opt) {
-  Progress progress(opt.progress);
+  const bool many = opt.processes > 1;
+  Progress progress(opt.progress, many ? "rank " + std::to_string(opt.process) + ": " : "");
+  Progress silent(false, "");
   struct BuiltMesh {
     std::shared_ptr<HybridMesh> mesh;
     MeshReport report;
@@ -358,26 +427,30 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
                  given ? "--max-memory" : "available memory (MemAvailable, /proc/meminfo)");
   }
   // What the analysis reads to know the cases, their order and the reference.
-  fs::create_directories(fs::path(opt.out_dir) / e.name);
-  write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
+  if (opt.process == 0) {
+    fs::create_directories(fs::path(opt.out_dir) / e.name);
+    write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
+  }
   if (opt.index_only) return outcomes;
-  for (const Scenario& s : e.scenarios) {
-    if (!opt.only_scenario.empty() && opt.only_scenario != s.name) continue;
-    // The same resolved recipe (file paths absolute) builds the same mesh: build it once.
-    const std::string key = s.mesh.to_json().dump();
-    Scenario resolved;
-    std::shared_ptr<HybridMesh> mesh;
-    nlohmann::json summary;
+  const std::vector<std::vector<CaseAssignment>> plan = assign_cases(e, opt);
+
+  // Builds (or finds) the scenario's mesh and places its tools and probes. With
+  // `collective`, every process calls it for the same scenarios in the same order.
+  auto prepare = [&](const Scenario& s, bool collective, bool write_meshes) {
+    PreparedScenario p;
     try {
+      // The same resolved recipe (file paths absolute) builds the same mesh: build it once.
+      const std::string key = s.mesh.to_json().dump();
       auto it = meshes.find(key);
       if (it == meshes.end()) {
         progress.line(s.name + ": preparing meshes");
         MeshReport report;
         bool cached = false;
+        std::shared_ptr<HybridMesh> mesh;
         const auto build_start = Clock::now();
-        if (opt.barrier) {  // the writing process first, through the cache; then the others read it
+        if (collective && opt.barrier) {  // process 0 first, through the cache; then the others read it
           std::exception_ptr failed;
-          if (opt.write_outputs) try {
+          if (opt.process == 0) try {
               mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
             } catch (...) {
               failed = std::current_exception();
@@ -388,7 +461,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         if (!mesh) mesh = std::make_shared<HybridMesh>(build_mesh_cached(s.mesh, report, opt.mesh_cache_dir, cached));
         const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
         if (cached) progress.line(s.name + ": meshes read from the cache " + opt.mesh_cache_dir);
-        summary = report.to_json(*mesh);
+        nlohmann::json summary = report.to_json(*mesh);
         // How long building took and the process's peak memory after it (an upper
         // bound of the build's own when it is the process's first and largest).
         summary["build_seconds"] = build_seconds;
@@ -400,61 +473,82 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
                       std::to_string(mesh->coarse_volume.T.rows()) + " coarse tets, " +
                       std::to_string(mesh->control_points.size()) + " control points");
       }
-      mesh = it->second.mesh;
-      summary = it->second.summary;
+      p.mesh = it->second.mesh;
+      p.summary = it->second.summary;
       // The meshes as built, for ParaView and figure 1.
-      if (opt.write_outputs && opt.write_meshes)
-        write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *mesh, it->second.report);
+      if (write_meshes)
+        write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *p.mesh, it->second.report);
       // What the scenario places relative to the mesh, and checks that every case
       // shares (tools that hold nothing, probes outside the body): before any case.
-      resolved = s;
-      resolve_on_mesh(resolved, mesh->fine_surface);
-      check_on_mesh(resolved, mesh->fine_surface);
+      p.resolved = s;
+      resolve_on_mesh(p.resolved, p.mesh->fine_surface);
+      check_on_mesh(p.resolved, p.mesh->fine_surface);
     } catch (const std::exception& ex) {
-      for (const ModelRun& run : s.models) {
-        try {
-          write_file_atomically((fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".failed.json")).string(),
-                                nlohmann::json({{"case", run.case_name}, {"error", ex.what()}}).dump(2) + "\n");
-        } catch (const std::exception&) {
-        }
-        CaseOutcome failed;
-        failed.scenario = s.name;
-        failed.case_name = run.case_name;
-        failed.error = ex.what();
-        outcomes.push_back(failed);
-      }
-      progress.line(s.name + ": FAILED preparing the scenario: " + ex.what());
-      continue;
+      p.error = ex.what();
+      progress.line(s.name + ": FAILED preparing the scenario: " + p.error);
     }
-    for (const ModelRun& run : s.models) {
-      if (!opt.only_case.empty() && opt.only_case != run.case_name && opt.only_case != run.model) continue;
-      CaseOutcome o;
-      o.scenario = s.name;
-      o.case_name = run.case_name;
-      // A failed case leaves its message beside its (absent or previous) results, for the analysis.
-      const fs::path failure = fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".failed.json");
-      try {
-        o = run_case(resolved, run, *mesh, summary, e.name, opt, progress);
-        std::error_code ec;
-        fs::remove(failure, ec);
-        progress.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +
+    return p;
+  };
+
+  // One process: every case in order. Several: the shared cases first, every
+  // process together, then each process its own dealt cases.
+  std::map<size_t, PreparedScenario> prepared;
+  const int phases = many ? 2 : 1;
+  for (int phase = 0; phase < phases; ++phase)
+    for (size_t i = 0; i < e.scenarios.size(); ++i) {
+      const Scenario& s = e.scenarios[i];
+      auto takes_part = [&](const CaseAssignment& a) {
+        if (!a.selected) return false;
+        if (!many) return true;
+        return phase == 0 ? a.shared : !a.shared && a.writer == opt.process;
+      };
+      std::vector<size_t> mine;
+      for (size_t k = 0; k < s.models.size(); ++k)
+        if (takes_part(plan[i][k])) mine.push_back(k);
+      if (mine.empty()) continue;
+      auto found = prepared.find(i);
+      if (found == prepared.end()) {
+        // The scenario's mesh folder is written by the process of its first case.
+        int mesh_writer = -1;
+        for (const CaseAssignment& a : plan[i])
+          if (a.selected && (mesh_writer < 0 || a.shared)) mesh_writer = a.writer;
+        found = prepared.emplace(i, prepare(s, many && phase == 0, opt.write_meshes && mesh_writer == opt.process))
+                    .first;
+      }
+      const PreparedScenario& p = found->second;
+      for (size_t k : mine) {
+        const ModelRun& run = s.models[k];
+        const bool writes = plan[i][k].writer == opt.process;
+        CaseOutcome o;
+        o.scenario = s.name;
+        o.case_name = run.case_name;
+        // A failed case leaves its message beside its (absent or previous) results, for the analysis.
+        const fs::path failure = fs::path(opt.out_dir) / e.name / s.name / (run.case_name + ".failed.json");
+        if (!p.error.empty()) {
+          o.error = p.error;
+          if (writes) write_failure(failure, run.case_name, o.error), outcomes.push_back(o);
+          continue;
+        }
+        Progress& report = writes ? progress : silent;
+        try {
+          o = run_case(p.resolved, run, *p.mesh, p.summary, e.name, opt, writes, plan[i][k].shared, report);
+          std::error_code ec;
+          if (writes) fs::remove(failure, ec);
+          report.line(s.name + "/" + run.case_name + ": done, " + std::to_string(o.frames) + " frames" +
                       (o.steady_frame >= 0 ? "" : " (frame budget reached before steady state)"));
-      } catch (const std::exception& ex) {
-        o.ok = false;
-        o.error = ex.what();
-        progress.line(s.name + "/" + run.case_name + ": FAILED: " + o.error);
-        try {
-          write_file_atomically(failure.string(),
-                                nlohmann::json({{"case", run.case_name}, {"error", o.error}}).dump(2) + "\n");
-        } catch (const std::exception&) {
-          // the failure is reported on stderr and in the exit status already
+        } catch (const std::exception& ex) {
+          o.ok = false;
+          o.error = ex.what();
+          report.line(s.name + "/" + run.case_name + ": FAILED: " + o.error);
+          if (writes) {
+            write_failure(failure, run.case_name, o.error);
+            std::error_code ec;
+            fs::remove_all(staging_folder(fs::path(opt.out_dir) / e.name / s.name / run.case_name), ec);
+          }
         }
-        std::error_code ec;
-        fs::remove_all(staging_folder(fs::path(opt.out_dir) / e.name / s.name / run.case_name), ec);
+        if (writes) outcomes.push_back(o);
       }
-      outcomes.push_back(o);
     }
-  }
   return outcomes;
 }
 

@@ -27,13 +27,17 @@ struct RunOptions {
   /// written (resource_limits.h): > 0 bytes (tissuebench run --max-memory); 0: the
   /// machine's available memory; < 0: no check.
   double max_memory_bytes = 0;
-  // Several processes (mpirun): every one runs every case (the
-  // distributed FEM together, the other models redundantly); only the one with
-  // write_outputs writes files. With `barrier` set, that process builds each mesh
-  // (through the cache) before the others, who read it from the cache.
-  bool write_outputs = true;
+  /// Several processes (mpirun -np N; docs/usage.md, "Many cases over MPI ranks"):
+  /// this one's index and their count. A case of a model that spans ranks
+  /// (ModelInfo::spans_ranks) is run by every process together and written by
+  /// process 0; every other selected case is dealt to one process, which runs and
+  /// writes it alone: the k-th such case, in the experiment's order, to process
+  /// k mod N. With N > 1 the shared cases come first, then each process's own.
+  int process = 0, processes = 1;
+  /// Set with processes > 1: for a scenario with a shared case, process 0 builds
+  /// the mesh (through the cache) before the others, who read it from the cache.
   std::function<void()> barrier;
-  /// If set, called by every process after a case's frames (it may be
+  /// If set, called by every process after a shared case's frames (it may be
   /// collective); its result goes into timings.json as "processes".
   std::function<nlohmann::json()> process_statistics;
 };
@@ -50,7 +54,8 @@ struct CaseOutcome {
 /// ~/.cache, + /tissuebench/meshes.
 std::string default_mesh_cache_dir();
 
-/// Runs every case; a failing case is reported and writes nothing, the others go on.
+/// Runs this process's cases; a failing case is reported and writes nothing, the
+/// others go on. Returns the outcomes of the cases this process writes.
 std::vector<CaseOutcome> run_experiment(const Experiment& experiment, const RunOptions& options);
 
 /// Summary statistics of per-frame times (milliseconds).

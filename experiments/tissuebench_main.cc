@@ -1,7 +1,8 @@
 // The tissuebench command line: `run`, `mesh`, `models`. Any failure prints one
 // line naming the file and the problem and exits non-zero. Under `mpirun -np N`
-// every rank runs every case (the distributed FEM together, other models
-// redundantly) and rank 0 alone prints and writes.
+// the ranks run the distributed FEM's cases together and share out the others,
+// each case run and written by one rank (runner.h, RunOptions::processes); rank 0
+// prints the summary of all.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
@@ -58,6 +59,32 @@ nlohmann::json overrides_of(const std::vector<std::string>& settings) {
     out.push_back({s.substr(0, eq), value});
   }
   return out;
+}
+
+/// Every rank's outcomes on rank 0, in the experiment's order (empty on the others).
+std::vector<tb::CaseOutcome> all_outcomes(const tb::Experiment& e, std::vector<tb::CaseOutcome> mine) {
+  if (tb::MpiSession::size() == 1) return mine;
+  nlohmann::json list = nlohmann::json::array();
+  for (const tb::CaseOutcome& o : mine)
+    list.push_back({o.scenario, o.case_name, o.ok, o.error, o.frames, o.steady_frame});
+  std::vector<tb::CaseOutcome> all;
+  for (const std::string& rank : tb::MpiSession::gather_to_root(list.dump()))
+    for (const nlohmann::json& j : nlohmann::json::parse(rank)) {
+      tb::CaseOutcome o;
+      o.scenario = j[0], o.case_name = j[1], o.ok = j[2], o.error = j[3], o.frames = j[4], o.steady_frame = j[5];
+      all.push_back(o);
+    }
+  auto order = [&](const tb::CaseOutcome& o) {
+    size_t index = 0;
+    for (const tb::Scenario& s : e.scenarios)
+      for (const tb::ModelRun& run : s.models) {
+        if (s.name == o.scenario && run.case_name == o.case_name) return index;
+        ++index;
+      }
+    return index;
+  };
+  std::stable_sort(all.begin(), all.end(), [&](const auto& a, const auto& b) { return order(a) < order(b); });
+  return all;
 }
 
 }  // namespace
@@ -182,13 +209,14 @@ int main(int argc, char** argv) {
       opt.only_case = only;
       opt.only_scenario = only_scenario;
       opt.write_meshes = !no_mesh_output;
-      opt.progress = !quiet && root;
+      opt.progress = !quiet;  // every rank its own cases' lines
       opt.mesh_cache_dir = no_cache ? "" : mesh_cache;
       opt.max_memory_bytes = max_memory_gib < 0 ? -1 : max_memory_gib * (1ull << 30);
-      opt.write_outputs = root;
-      if (tb::MpiSession::size() > 1) opt.barrier = [] { tb::MpiSession::barrier(); };
-      opt.process_statistics = [] {
-        const std::vector<double> peak = tb::MpiSession::peak_memory_mib();
+      opt.process = tb::MpiSession::rank();
+      opt.processes = tb::MpiSession::size();
+      if (opt.processes > 1) opt.barrier = [] { tb::MpiSession::barrier(); };
+      opt.process_statistics = [] {  // every rank's peak memory in the case (build_info.h)
+        const std::vector<double> peak = tb::MpiSession::all_gather(tb::peak_memory_since_reset_mib());
         double max = 0, sum = 0;
         for (double p : peak) max = std::max(max, p), sum += p;
         return nlohmann::json{{"ranks", peak.size()},
@@ -196,27 +224,25 @@ int main(int argc, char** argv) {
                               {"peak_rss_mib_max", max},
                               {"peak_rss_mib_sum", sum}};
       };
-      const auto outcomes = tb::run_experiment(e, opt);
+      const std::vector<tb::CaseOutcome> outcomes = all_outcomes(e, tb::run_experiment(e, opt));
       if (index_only) {
         if (root) std::cerr << "tissuebench: " << out_dir << "/" << e.name << "/experiment.json written\n";
         return 0;
       }
-      int failed = 0, ran = 0;
-      for (const auto& o : outcomes) {
-        ++ran;
+      if (!root) return 0;  // rank 0 reports every rank's cases
+      int failed = 0;
+      for (const auto& o : outcomes)
         if (!o.ok) {
           ++failed;
-          if (root) std::cerr << "tissuebench: " << o.scenario << "/" << o.case_name << " failed: " << o.error << "\n";
+          std::cerr << "tissuebench: " << o.scenario << "/" << o.case_name << " failed: " << o.error << "\n";
         }
-      }
-      if (!root) return failed ? 1 : (ran == 0 ? 2 : 0);
-      if (ran == 0) {
+      if (outcomes.empty()) {
         std::cerr << "tissuebench: " << scenario_file << ": no case matches --model " << only << " --scenario "
                   << only_scenario << "\n";
         return 2;
       }
-      std::cerr << "tissuebench: " << ran - failed << " of " << ran << " cases written under " << out_dir << "/"
-                << e.name << "\n";
+      std::cerr << "tissuebench: " << outcomes.size() - failed << " of " << outcomes.size() << " cases written under "
+                << out_dir << "/" << e.name << "\n";
       return failed ? 1 : 0;
     }
     if (mesh->parsed()) {

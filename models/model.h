@@ -99,6 +99,10 @@ struct ModelInfo {
   std::string name;  ///< [a-z0-9_]+, unique (checked at registration)
   std::string description;
   bool dynamic = false;  ///< advances in time: run until steady (else one solve per frame)
+  /// Solves one case over every MPI rank together (MPI_COMM_WORLD, collective calls):
+  /// under mpirun its cases are run by all ranks at once, never dealt to one
+  /// (experiments/runner.h, RunOptions::processes).
+  bool spans_ranks = false;
   std::vector<ParameterSpec> parameters;
   std::function<std::unique_ptr<Model>()> create;
   std::vector<LoadKind> loads = {LoadKind::PointForce};  ///< the kinds of load it takes

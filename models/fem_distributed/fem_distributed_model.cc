@@ -128,6 +128,7 @@ ModelInfo fem_distributed_model_info() {
       P::whole_number("load_steps", 1, 1, 1000, "nonlinear laws: load increments per frame (halved when Newton fails)"),
       P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")};
   m.create = [] { return std::make_unique<FemDistributedModel>(); };
+  m.spans_ranks = true;
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction};
   m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
   m.tools_how =

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace tb {
@@ -18,16 +19,14 @@ class MpiSession {
   static int rank();  ///< in MPI_COMM_WORLD
   static int size();
   static void barrier();
-  /// Peak resident memory of every rank in MiB (getrusage), rank by rank, on
-  /// every rank. Collective.
-  static std::vector<double> peak_memory_mib();
+  /// Every rank's `mine`, rank by rank, on every rank. Collective.
+  static std::vector<double> all_gather(double mine);
+  /// Every rank's `mine`, rank by rank, on rank 0 (empty on the others). Collective.
+  static std::vector<std::string> gather_to_root(const std::string& mine);
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// Peak resident memory of this process in MiB (getrusage ru_maxrss).
-double peak_rss_mib();
 
 }  // namespace tb

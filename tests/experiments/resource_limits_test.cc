@@ -1,13 +1,17 @@
 // Resource limits stated before a run starts (experiments/resource_limits.h): the
 // mesh-size estimate against a committed run, and a scenario too large for the
-// limit stopped before anything is built or written, by the runner and the CLI.
+// limit stopped before anything is built or written, by the runner and the CLI;
+// and a case's own peak memory, measured after a reset (build_info.h).
 #include "resource_limits.h"
 
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+
 #include <cstdio>
 #include <fstream>
 
+#include "build_info.h"
 #include "scenario_fixture.h"
 
 namespace tb {
@@ -29,6 +33,27 @@ TEST(ResourceLimits, TheCubeEstimateIsNearTheCommittedRunsMesh) {
   EXPECT_LE(size.fine_nodes, 2 * nodes);
   // Every case of the paper's cube fits in 1 GiB.
   EXPECT_NO_THROW(check_memory(e, "", "", kGiB, "--max-memory"));
+}
+
+TEST(PeakMemory, ARunsPeakIsMeasuredFromTheLastResetOnly) {
+  ASSERT_TRUE(reset_peak_memory()) << "/proc/self/clear_refs refused";
+  const double before = peak_memory_since_reset_mib();
+  {
+    // 256 MiB mapped, every page touched, then unmapped (not malloc: it may keep freed memory).
+    const size_t bytes = 256u << 20;
+    void* map = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    ASSERT_NE(map, MAP_FAILED);
+    char* block = static_cast<char*>(map);
+    for (size_t i = 0; i < bytes; i += 4096) block[i] = 1;
+    EXPECT_GT(peak_memory_since_reset_mib(), before + 250) << "the touched block is not in the peak";
+    munmap(map, bytes);
+  }
+  // Returned to the kernel: the peak stays until a reset ...
+  EXPECT_GT(peak_memory_since_reset_mib(), before + 250);
+  ASSERT_TRUE(reset_peak_memory());
+  // ... which starts it again from what is resident now.
+  EXPECT_LT(peak_memory_since_reset_mib(), before + 50);
+  EXPECT_LT(process_peak_memory_mib(), before + 50) << "getrusage's ru_maxrss is the same high-water mark";
 }
 
 TEST(ResourceLimits, CondensedResponsesGrowAsTheSquareOfTheSurface) {
