@@ -56,6 +56,41 @@ def field_error(case, ref):
     return m["rel_l2"], m["max_error"]
 
 
+def read_trajectory(folder):
+    """(header, frames x columns array) of the case's trajectory.csv (the displacement of
+    its tracked surface vertices at each of its first frames), or None when it wrote none."""
+    path = os.path.join(folder, "trajectory.csv")
+    if not os.path.isfile(path):
+        return None
+    header, rows = read_csv_rows(path)
+    if not rows:
+        raise ResultsError(f"{path}: no frame")
+    if (len(header) - 1) % 3 or any(len(row) != len(header) for row in rows):
+        raise ResultsError(f"{path}: each row must hold the frame and three values per tracked vertex of the header")
+    return header[1:], np.array([[float(x) for x in row[1:]] for row in rows])
+
+
+def transient_error(case, transient_ref):
+    """(relative, largest in m) error of the case's trajectory against the transient
+    reference's over the reference's frames, at the same tracked vertices: relative is
+    sqrt(sum over frames and vertices |u - u_ref|^2 / sum |u_ref|^2); a case that settled
+    earlier holds its last frame. (nan, nan) when either has no trajectory."""
+    mine, ref = read_trajectory(case["folder"]), read_trajectory(transient_ref["folder"])
+    if mine is None or ref is None:
+        return float("nan"), float("nan")
+    (header, u), (header_ref, u_ref) = mine, ref
+    if header != header_ref:
+        raise ResultsError(f"{case['folder']}/trajectory.csv: tracked vertices differ from "
+                           f"{transient_ref['folder']}'s (another mesh?)")
+    frames = u_ref.shape[0]
+    if u.shape[0] < frames:
+        u = np.vstack([u, np.repeat(u[-1:], frames - u.shape[0], axis=0)])
+    diff = (u[:frames] - u_ref).reshape(frames, -1, 3)
+    norm = float(np.sqrt(np.sum(u_ref ** 2)))
+    return (float(np.sqrt(np.sum(diff ** 2))) / norm if norm > 0 else float("nan"),
+            float(np.max(np.linalg.norm(diff, axis=2))))
+
+
 def probe_displacements(folder):
     """#P x 3 displacements (m) of the case's probes.csv, or None when it wrote none."""
     path = os.path.join(folder, "probes.csv")
@@ -128,6 +163,7 @@ def score_case(exp, scenario, name, ref_name, beads):
     """Every metric of one case (docs/suite.md)."""
     cases = exp.scenario(scenario)
     case, ref = cases[name], cases[ref_name]
+    transient_ref = cases.get(exp.transient_reference) if exp.transient_reference else None
     run, timings = case["run"], case["timings"]
     rel_l2, max_error = field_error(case, ref) if name != ref_name else (0.0, 0.0)
     u_ref = probe_displacements(ref["folder"])
@@ -136,12 +172,16 @@ def score_case(exp, scenario, name, ref_name, beads):
                  if u is not None and u_ref is not None else float("nan"))
     force_abs, force_rel = tool_force_error(final_tool_forces(case["folder"]), final_tool_forces(ref["folder"]))
     dynamic = run.get("dynamic", False)
+    transient_rel, transient_max = (transient_error(case, transient_ref)
+                                    if dynamic and transient_ref is not None and name != exp.transient_reference
+                                    else (float("nan"), float("nan")))
     return {
         "case": name, "model": run["model"],
         "rel_l2": rel_l2, "max_error_mm": max_error * 1000,
         "probe_error_mm": probe_err,
         "tool_force_error_n": force_abs, "tool_force_error_rel": force_rel,
         "bead_rms_mm": beads.rms_mm(case) if beads is not None else float("nan"),
+        "transient_rel": transient_rel, "transient_max_mm": transient_max * 1000,
         "median_ms": timings["step"]["median_ms"], "p95_ms": timings["step"]["p95_ms"],
         "setup_ms": timings.get("setup_ms", float("nan")), "peak_mib": peak_memory_mib(case),
         "frames": run.get("frames"),
@@ -257,7 +297,8 @@ def make(results, out, data_flag, figures=True, with_results=None):
         scores = []
         for name in exp.scenario(scenario):
             s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None)
-            s["is_reference"] = name == ref_name
+            # The transient reference is a reference too: scored, never ranked.
+            s["is_reference"] = name in (ref_name, exp.transient_reference)
             scores.append(s)
         everything[role] = scores
         for s in scores:
@@ -268,9 +309,10 @@ def make(results, out, data_flag, figures=True, with_results=None):
         for s in scores:
             score_rows.append([role, s["case"], s["model"], sig(s["rel_l2"]), sig(s["max_error_mm"]),
                                sig(s["probe_error_mm"]), sig(s["tool_force_error_n"]), sig(s["tool_force_error_rel"]),
-                               sig(s["bead_rms_mm"]), fmt(s["median_ms"]), fmt(s["p95_ms"]), fmt(s["setup_ms"]),
+                               sig(s["bead_rms_mm"]), sig(s["transient_rel"]), sig(s["transient_max_mm"]),
+                               fmt(s["median_ms"]), fmt(s["p95_ms"]), fmt(s["setup_ms"]),
                                fmt(s["peak_mib"]), str(s["frames"]), "yes" if s["settled"] else "no"])
-        ref = next(s for s in scores if s["is_reference"])
+        ref = next(s for s in scores if s["case"] == ref_name)
         row = [role, ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
         for budget in BUDGETS_MS:
             best = best_within(scores, key, budget)
@@ -291,7 +333,8 @@ def make(results, out, data_flag, figures=True, with_results=None):
     legend = case_legend({c["name"]: c for c in all_cases.values()})
     write_table(tables, "suite_scores",
                 ["role", "case", "model", "rel L2 vs reference", "max error (mm)", "probe error (mm)",
-                 "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "median (ms)", "p95 (ms)",
+                 "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "transient error (rel)",
+                 "transient max error (mm)", "median (ms)", "p95 (ms)",
                  "setup (ms)", "peak memory (MiB)", "frames", "settled"],
                 score_rows, machine + "\n\n" + legend)
     write_table(tables, "leaderboard",

@@ -71,6 +71,7 @@ class Experiment:
         self.name = index.get("name", os.path.basename(os.path.normpath(root)))
         self.description = index.get("description", "")
         self.reference = index.get("reference") or None
+        self.transient_reference = index.get("transient_reference") or None
         order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
         self.listed_cases = order  # {scenario: [cases]} as the experiment lists them, failed ones included
         self.listed_points = index.get("scenarios", [])  # experiment.json's entries (name, role, cases, sweep)

@@ -36,12 +36,13 @@ import results_index  # noqa: E402
 # Absolute floors of the tolerance, per quantity: what a value at (or near) zero may
 # differ by (round-off of a direct solve is far below; a real change far above).
 ATOL = {"rel_l2": 1e-9, "u_rms_mm": 1e-9, "u_max_mm": 1e-9, "probe_rms_mm": 1e-9, "tool_force_n": 1e-12,
-        "bead_rms_mm": 1e-9}
+        "bead_rms_mm": 1e-9, "transient_rel": 1e-9}
 
 
 def gated_values(exp, scenario, name, ref_name, beads):
     """{quantity: value} of one case: its observed field (RMS and largest |u|, mm),
-    its error against the reference, its probes, the force on each tool, the beads."""
+    its error against the reference, its probes, the force on each tool, the beads,
+    and a dynamic case's transient error against the transient reference."""
     case = exp.scenario(scenario)[name]
     _, _, u = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
     mag = np.linalg.norm(u, axis=1) * 1000
@@ -54,6 +55,11 @@ def gated_values(exp, scenario, name, ref_name, beads):
     for tool, force in leaderboard.final_tool_forces(case["folder"]).items():
         if np.all(np.isfinite(force)):
             out[f"tool_force_n:{tool}"] = float(np.linalg.norm(force))
+    transient_ref = exp.scenario(scenario).get(exp.transient_reference) if exp.transient_reference else None
+    if transient_ref is not None and name != exp.transient_reference and case["run"].get("dynamic"):
+        rel = leaderboard.transient_error(case, transient_ref)[0]
+        if math.isfinite(rel):
+            out["transient_rel"] = rel
     if beads is not None:
         rms = beads.rms_mm(case)
         if math.isfinite(rms):

@@ -110,6 +110,37 @@ std::vector<int> observed_vertices(const Scenario& s, const Points& V) {
   return out;
 }
 
+/// The surface vertices whose every frame a dynamic case records (trajectory.csv):
+/// the observed vertex nearest each point where a load or a grasp or sphere acts,
+/// then at most kTrackedSpread observed vertices evenly spread through their list.
+constexpr int kTrackedSpread = 8;
+std::vector<int> tracked_vertices(const Scenario& s, const Points& V) {
+  const std::vector<int> observed = observed_vertices(s, V);
+  std::vector<int> out;
+  if (observed.empty()) return out;
+  auto add = [&](int v) {
+    if (std::find(out.begin(), out.end(), v) == out.end()) out.push_back(v);
+  };
+  auto nearest = [&](const Eigen::Vector3d& p) {
+    int best = observed.front();
+    for (int v : observed)
+      if ((V.row(v).transpose() - p).squaredNorm() < (V.row(best).transpose() - p).squaredNorm()) best = v;
+    return best;
+  };
+  const LoadCase load_case = s.load_case();
+  for (const Load& load : load_case.loads)
+    if (load.kind != LoadKind::BodyForce) add(nearest(load.point));
+  for (const Tool& tool : load_case.tools)
+    if (tool.kind == ToolKind::Grasp || tool.kind == ToolKind::Sphere) add(nearest(tool.point));
+  const size_t n = observed.size(), spread = std::min<size_t>(n, kTrackedSpread);
+  for (size_t k = 0; k < spread; ++k) add(observed[k * n / spread]);
+  return out;
+}
+
+/// A dynamic case's first frames are recorded at its tracked vertices: the window in
+/// which its transient is compared with the implicit-Euler reference's (docs/suite.md).
+constexpr int kTrajectoryFrames = 200;
+
 std::string csv_of(const Points& rest, const Displacements& u, const std::vector<int>& vertices) {
   std::ostringstream os;
   os << std::setprecision(17) << "vertex,x,y,z,ux,uy,uz\n";
@@ -163,7 +194,12 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     series << "    <DataSet timestep=\"" << frame << "\" file=\"" << name << "\"/>\n";
   };
   const int changing = s.changing_frames();
-  const int budget = info.dynamic ? s.max_frames : std::max(s.static_frames, changing);
+  const int budget = info.dynamic ? (run.max_frames > 0 ? std::min(run.max_frames, s.max_frames) : s.max_frames)
+                                  : std::max(s.static_frames, changing);
+  // A dynamic case's displacement at its tracked vertices, frame by frame (trajectory.csv).
+  const std::vector<int> tracked = info.dynamic ? tracked_vertices(s, rest) : std::vector<int>();
+  std::vector<double> trajectory;
+  trajectory.reserve(tracked.size() * 3 * static_cast<size_t>(std::min(budget, kTrajectoryFrames)));
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<size_t>(budget));
   std::vector<int> iterations;
@@ -205,6 +241,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
             << "outside its range (reduce the load or stiffen the material)";
       throw std::runtime_error(msg.str());
     }
+    if (frame < kTrajectoryFrames)
+      for (int v : tracked) trajectory.insert(trajectory.end(), {u(v, 0), u(v, 1), u(v, 2)});
     last_change = (u - previous).rowwise().norm().maxCoeff();
     previous = u;
     const bool steady = info.dynamic && frame + 1 >= changing && last_change <= s.steady_tolerance * max_u;
@@ -256,6 +294,14 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   j["last_frame_change_m"] = last_change;
   j["max_displacement_m"] = u.rowwise().norm().maxCoeff();
   j["observed_vertices"] = s.observed;
+  if (!tracked.empty())
+    j["trajectory"] = {{"file", "trajectory.csv"},
+                       {"frames", std::min(out.frames, kTrajectoryFrames)},
+                       {"vertices", tracked},
+                       {"how", "the displacement of these surface vertices at each of the first " +
+                                   std::to_string(kTrajectoryFrames) +
+                                   " frames: the observed vertex nearest each load, grasp and sphere, then " +
+                                   std::to_string(kTrackedSpread) + " observed vertices spread through their list"}};
   j["mesh"] = mesh_summary;
   // What the model measured beside the surface, and how (or why not).
   if (!s.tools.empty() || s.probes.rows() > 0) {
@@ -301,6 +347,20 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");
 
   write_file_atomically((staging / "top_surface.csv").string(), csv_of(rest, u, observed_vertices(s, rest)));
+  if (!tracked.empty()) {
+    // Wide: a row per frame, three columns per tracked vertex (its index in the header).
+    std::ostringstream csv;
+    csv << std::setprecision(8) << "frame";
+    for (int v : tracked) csv << ",v" << v << "_ux,v" << v << "_uy,v" << v << "_uz";
+    csv << '\n';
+    const size_t row = tracked.size() * 3;
+    for (size_t f = 0; f * row < trajectory.size(); ++f) {
+      csv << f;
+      for (size_t k = 0; k < row; ++k) csv << ',' << trajectory[f * row + k];
+      csv << '\n';
+    }
+    write_file_atomically((staging / "trajectory.csv").string(), csv.str());
+  }
   std::vector<int> all(static_cast<size_t>(rest.rows()));
   for (size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
   write_file_atomically((staging / "surface.csv").string(), csv_of(rest, u, all));

@@ -25,6 +25,7 @@ nlohmann::json Experiment::to_json() const {
   j["name"] = name;
   j["description"] = description;
   j["reference"] = reference;
+  if (!transient_reference.empty()) j["transient_reference"] = transient_reference;
   if (!overrides.empty()) j["overrides"] = overrides;
   j["scenarios"] = nlohmann::json::array();
   for (const Scenario& s : scenarios) {
@@ -85,6 +86,8 @@ nlohmann::json Scenario::to_json_with_models() const {
                            {"model", run.model},
                            {"parameters", run.parameters.to_json()},
                            {"parameters_given", run.parameters_given}});
+  for (size_t i = 0; i < models.size(); ++i)
+    if (models[i].max_frames > 0) j["models"][i]["max_frames"] = models[i].max_frames;
   if (!sweep_base.empty()) j["sweep"] = {{"base", sweep_base}, {"values", sweep_values}, {"keys", sweep_keys}};
   return j;
 }
@@ -411,6 +414,7 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
     } catch (const std::invalid_argument& e) {
       throw ScenarioError(e.what() + mo.set_in(""));
     }
+    run.max_frames = mo.integer("max_frames", 0, 0, 100000000);
     mo.finish();
     for (const auto& other : s.models)
       if (other.case_name == run.case_name) mo.fail("name", "'" + run.case_name + "' is used twice");
@@ -428,7 +432,10 @@ nlohmann::json what_runs(const Scenario& s) {
   j.erase("description");
   j["models"] = nlohmann::json::array();
   for (const ModelRun& run : s.models)
-    j["models"].push_back({{"case", run.case_name}, {"model", run.model}, {"parameters", run.parameters.to_json()}});
+    j["models"].push_back({{"case", run.case_name},
+                           {"model", run.model},
+                           {"parameters", run.parameters.to_json()},
+                           {"max_frames", run.max_frames}});
   return j;
 }
 
@@ -483,6 +490,7 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
     e.name = o.text("name", std::nullopt);
     e.description = o.text("description", "");
     e.reference = o.text("reference", "");
+    e.transient_reference = o.text("transient_reference", "");
     const nlohmann::json& list = o.raw("scenarios");
     if (!list.is_array() || list.empty())
       o.fail("scenarios",

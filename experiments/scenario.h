@@ -29,6 +29,9 @@ struct ModelRun {
   std::string model;
   Parameters parameters;            ///< every declared parameter, resolved
   nlohmann::json parameters_given;  ///< the ones the scenario set (an object)
+  /// A dynamic case's own frame budget (0: the scenario's frames.max): the dynamic
+  /// reference of a transient needs only the frames that are compared.
+  int max_frames = 0;
 };
 
 struct Scenario {
@@ -103,6 +106,9 @@ struct Experiment {
   /// The case every other is compared with by the analysis (e.g. "fem-direct");
   /// empty: none declared.
   std::string reference;
+  /// The case a dynamic case's first frames are compared with (the implicit-Euler
+  /// fem_dynamic, docs/suite.md), in the scenarios that have it; empty: none.
+  std::string transient_reference;
   std::vector<Scenario> scenarios;
   /// Values set in every scenario by `tissuebench run --set KEY=VALUE`, in order
   /// ([[key, value], ...]); recorded in experiment.json.

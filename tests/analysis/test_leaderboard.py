@@ -52,6 +52,14 @@ def write_case(exp, scenario, case, model, u, median_ms, probes=None, tool_force
                    "processes": {"peak_rss_mib_max": 100.0}}, f)
 
 
+def write_trajectory(exp, scenario, case, u):
+    """trajectory.csv of a case: u is frames x tracked vertices x 3 (vertices 0 and 3)."""
+    with open(os.path.join(exp, scenario, case, "trajectory.csv"), "w") as f:
+        f.write("frame,v0_ux,v0_uy,v0_uz,v3_ux,v3_uy,v3_uz\n")
+        for frame, row in enumerate(u):
+            f.write(f"{frame}," + ",".join(repr(float(x)) for x in row.reshape(-1)) + "\n")
+
+
 def write_suite(tmp, extra_scale=None):
     """Two scenarios (a disc load; a grasp with a probe) and their cases; with
     extra_scale, a case 'mymodel' of a model no script names, its field the
@@ -132,6 +140,34 @@ class Leaderboard(unittest.TestCase):
             board = {r[0]: r for r in read_rows(os.path.join(out, "tables", "leaderboard.csv"))[1:]}
             self.assertEqual(board["cube_pull_disc"][2], "mymodel 0.05")  # 0.08 ms, more accurate than embedded
             self.assertEqual(board["torus_grasp"][2], "embedded 0.5")  # it did not run there
+
+    def test_transient_error_against_the_dynamic_reference_holds_a_settled_case(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            with open(os.path.join(exp, "experiment.json")) as f:
+                index = json.load(f)
+            index["transient_reference"] = "dynamic-reference"
+            index["scenarios"][0]["cases"].append("dynamic-reference")
+            with open(os.path.join(exp, "experiment.json"), "w") as f:
+                json.dump(index, f)
+            write_case(exp, "pull", "dynamic-reference", "fem_dynamic", U_REF, 400.0, dynamic=True, settled=False)
+            # The reference moves linearly over ten frames: u(f) = f / 9 U at both tracked vertices.
+            step = np.array([[0, 0, 1e-3], [0, 0, 2e-3]])
+            ramp = np.array([f / 9 * step for f in range(10)])
+            write_trajectory(exp, "pull", "dynamic-reference", ramp)
+            write_trajectory(exp, "pull", "pbd", 0.9 * ramp)  # 10 % short every frame
+            write_trajectory(exp, "pull", "vbd", ramp[:5])  # settled at frame 4: held there to frame 9
+            scores = {s["case"]: s for s in leaderboard.make(exp, tmp, None, figures=False)["cube_pull_disc"]}
+            self.assertAlmostEqual(scores["pbd"]["transient_rel"], 0.1)
+            self.assertAlmostEqual(scores["pbd"]["transient_max_mm"], 0.1 * np.linalg.norm(step[1]) * 1000)
+            # Frames 5..9 lag by (f - 4) / 9 U: sqrt(1 + 4 + 9 + 16 + 25) / sqrt(sum of f^2, f = 0..9).
+            self.assertAlmostEqual(scores["vbd"]["transient_rel"], np.sqrt(55 / 285))
+            self.assertTrue(np.isnan(scores["fem-linear"]["transient_rel"]))  # static: no transient
+            self.assertTrue(np.isnan(scores["embedded"]["transient_rel"]))
+            self.assertTrue(scores["dynamic-reference"]["is_reference"])  # scored, never ranked
+            write_trajectory(exp, "pull", "pbd", 0.9 * ramp[:, :1])  # rows shorter than the header
+            with self.assertRaises(leaderboard.ResultsError):
+                leaderboard.make(exp, tmp, None, figures=False)
 
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
