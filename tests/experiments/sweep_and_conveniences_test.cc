@@ -317,5 +317,49 @@ TEST_F(Scenarios, ADynamicCaseWritesAParaViewTimeSeriesWhenAsked) {
   expect_error(j, "output.series_every");
 }
 
+TEST_F(Scenarios, ADynamicCaseRecordsItsFirstFramesAtTrackedVerticesAndMayStopEarly) {
+  auto j = small_cube();
+  j["models"] = nlohmann::json::parse(R"([{"model": "pbd", "max_frames": 7}, {"name": "long", "model": "pbd",
+      "max_frames": 100000}, {"name": "fem-direct", "model": "fem"}])");
+  j["frames"]["max"] = 12;
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  const auto outcomes = run_experiment(load_experiment(write("s.json", j)), o);
+  ASSERT_EQ(outcomes.size(), 3u);
+  EXPECT_EQ(outcomes[0].frames, 7) << "its own budget";
+  EXPECT_EQ(outcomes[1].frames, 12) << "never beyond frames.max";
+  const fs::path folder = dir / "out" / "small" / "small";
+  const nlohmann::json run = nlohmann::json::parse(read_file((folder / "pbd" / "run.json").string()));
+  const std::vector<int> tracked = run["trajectory"]["vertices"];
+  // The vertex nearest the load point first, then spread observed vertices.
+  ASSERT_GE(tracked.size(), 2u);
+  std::istringstream csv(read_file((folder / "pbd" / "trajectory.csv").string()));
+  std::string header, line, last_row;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("frame,v" + std::to_string(tracked[0]) + "_ux,", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows, last_row = line;
+  EXPECT_EQ(rows, 7);
+  // The surface the case ends on is its trajectory's last row.
+  const std::string last = last_row.substr(last_row.find(',') + 1);
+  const std::string surface = read_file((folder / "pbd" / "surface.csv").string());
+  const size_t row = surface.find("\n" + std::to_string(tracked[0]) + ",");
+  ASSERT_NE(row, std::string::npos);
+  std::istringstream fields(surface.substr(row + 1));
+  std::string value;
+  std::vector<double> at_tracked;
+  for (int k = 0; k < 7 && std::getline(fields, value, ','); ++k)
+    if (k >= 4) at_tracked.push_back(std::stod(value));
+  std::istringstream first(last);
+  for (double u : at_tracked) {
+    std::getline(first, value, ',');
+    EXPECT_NEAR(std::stod(value), u, 1e-7 * std::abs(u) + 1e-15);
+  }
+  EXPECT_FALSE(fs::exists(folder / "fem-direct" / "trajectory.csv")) << "a static case has no transient";
+  j["models"][0]["max_frames"] = -1;
+  expect_error(j, "max_frames");
+}
+
 }  // namespace
 }  // namespace tb
