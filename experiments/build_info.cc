@@ -11,6 +11,7 @@
 
 #include "blas_kernels.h"
 #include "compile_flags.h"
+#include "git_commit.h"  // written at every build (cmake/git_commit.cmake)
 
 namespace tb {
 
