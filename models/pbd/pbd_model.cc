@@ -1,7 +1,6 @@
 #include "pbd_model.h"
 
 #include <chrono>
-#include <limits>
 
 #include "load_placement.h"
 #include "pbd_solver.h"
@@ -18,11 +17,17 @@ class PbdModel : public Model {
     // Tools pin the surface vertices they hold (inverse mass 0) at rest plus their
     // displacement each frame (eq. 33, as the hybrid's control points).
     std::vector<char> fixed = p.load_case.support.clamp(s.V, "fine surface");
+    // Reaction groups: each tool's pinned vertices, then the support's (the last).
+    const int n_tools = static_cast<int>(p.load_case.tools.size());
+    std::vector<int> group(fixed.size(), -1);
+    for (size_t v = 0; v < fixed.size(); ++v)
+      if (fixed[v]) group[v] = n_tools;
     for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
       const Tool& tool = p.load_case.tools[t];
       tool_vertices_.push_back(tool_vertices(tool, s, p.load_case.support));  // none for a sphere
       for (int v : tool_vertices_.back()) {
         fixed[static_cast<size_t>(v)] = 1;
+        group[static_cast<size_t>(v)] = static_cast<int>(t);
         pinned_.push_back(v);
       }
     }
@@ -34,11 +39,11 @@ class PbdModel : public Model {
     solver_->set_loads(place_on_surface(p.load_case.loads, s,
                                         solver_->settings().load_spread == pbd::LoadSpread::SurfaceTriangle,
                                         pbd::lumped_surface_masses(s, p.material.density)));
+    solver_->set_reaction_groups(group, n_tools + 1);
     u_ = Displacements::Zero(s.V.rows(), 3);
     // Spheres: a collision constraint per surface vertex near each (pbd_solver.h).
     spheres_.setup(p.load_case.tools, *solver_, s);
-    // Only a sphere's force is measured; the other tools' and the support's are NaN.
-    reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Zero());
     contacts_.assign(p.load_case.tools.size(), ToolContact{});
   }
 
@@ -49,6 +54,7 @@ class PbdModel : public Model {
         pinned_positions_.row(row++) = solver_->rest_positions().row(v) + loads.tool_values[t].transpose();
     spheres_.move(loads, *solver_);
     solver_->step(loads.values, pinned_, pinned_positions_);
+    reactions_ = solver_->group_forces();  // each tool's pins (zero for a sphere), then the support's
     spheres_.measure(*solver_, reactions_, contacts_);
     const auto start = std::chrono::steady_clock::now();
     u_ = solver_->positions() - solver_->rest_positions();
@@ -58,10 +64,7 @@ class PbdModel : public Model {
   }
 
   const Displacements& surface_displacement() const override { return u_; }
-  /// Only with a sphere (its force; the rest NaN): without one pbd measures nothing.
-  const std::vector<Eigen::Vector3d>* reaction_forces() const override {
-    return spheres_.empty() ? nullptr : &reactions_;
-  }
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &reactions_; }
   const std::vector<ToolContact>* tool_contacts() const override { return spheres_.empty() ? nullptr : &contacts_; }
   const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
   nlohmann::json report() const override { return solver_->details(); }
@@ -74,7 +77,7 @@ class PbdModel : public Model {
   std::vector<int> pinned_;                      // every tool's, in tool order
   Points pinned_positions_;
   SurfaceSpheres spheres_;
-  std::vector<Eigen::Vector3d> reactions_;  // a sphere's force; NaN for what is not measured
+  std::vector<Eigen::Vector3d> reactions_;  // each tool's force, then the support's
   std::vector<ToolContact> contacts_;
 };
 
@@ -92,8 +95,11 @@ ModelInfo pbd_model_info() {
   m.tools_how = "the held surface vertices pinned (inverse mass 0) at rest plus the tool's displacement, eq. (33); "
                 "no sliding plate (a pin holds all three components); a sphere: each surface vertex inside it "
                 "projected to its surface after every sweep (collision constraint, Mueller et al. 2007)";
-  m.reactions = "a sphere only: -sum over the vertices it moved of mass x collision correction / h^2 per sub-step h, "
-                "averaged over the frame's sub-steps; the other tools and the support are not measured (NaN)";
+  m.reactions = "a grasp, a plate, the support: -sum over the constraints joining its pinned vertices to free ones of "
+                "the momentum they gave the free vertices (sum m_j dp_j over the step's sweeps) / h^2 per sub-step h, "
+                "averaged over the sub-steps, plus the loads' shares on its own vertices (at rest: (1 - damping) of the "
+                "load on the free vertices, PBD's damping taking the rest); a sphere: -sum over the vertices it moved "
+                "of mass x collision correction / h^2, averaged alike";
   return m;
 }
 

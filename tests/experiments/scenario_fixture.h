@@ -30,14 +30,16 @@ class Scenarios : public ::testing::Test {
       "models": [{"name": "fem-direct", "model": "fem"}, {"model": "pbd"}, {"model": "hybrid"}]
     })");
   }
-  /// small_cube() held by a grasp instead of loaded (condensed takes no tools).
-  static nlohmann::json grasped_small_cube() {
-    nlohmann::json grasped = small_cube();
-    grasped["name"] = "grasped";
-    grasped.erase("load");
-    grasped["tools"] = nlohmann::json::parse(
-        R"([{"type": "grasp", "point": [0, 0, 0.1], "radius": 0.03, "displacement": [0, 0, 0.005]}])");
-    return grasped;
+  /// small_cube() pressed by a sliding plate on its top instead of loaded (pbd
+  /// takes no sliding plate: a pin holds all three components).
+  static nlohmann::json pressed_small_cube() {
+    nlohmann::json pressed = small_cube();
+    pressed["name"] = "pressed";
+    pressed.erase("load");
+    pressed["tools"] = nlohmann::json::parse(
+        R"([{"type": "plate", "box": {"min": [-1, -1, 0.0999], "max": [1, 1, 1]}, "mode": "sliding",
+             "displacement": [0, 0, -0.002]}])");
+    return pressed;
   }
   std::string write(const std::string& name, const nlohmann::json& j) {
     const std::string p = (dir / name).string();

@@ -104,11 +104,12 @@ TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
 
 // A suite lists every model once: with "unsupported_cases": "skip" a case runs only
 // where its model takes the scenario's tools; the others are listed with the reason.
+// (pbd takes no sliding plate.)
 TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSaysSkip) {
-  nlohmann::json grasped = grasped_small_cube();
-  grasped["models"] = nlohmann::json::array();
-  grasped["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
-  write("grasped.json", grasped);
+  nlohmann::json pressed = pressed_small_cube();
+  pressed["models"] = nlohmann::json::array();
+  pressed["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+  write("pressed.json", pressed);
   nlohmann::json loaded = small_cube();
   loaded["models"] = nlohmann::json::array();
   loaded["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
@@ -116,33 +117,33 @@ TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSays
   nlohmann::json experiment = {{"name", "suite"},
                                {"reference", "fem-direct"},
                                {"unsupported_cases", "skip"},
-                               {"scenarios", {"small.json", "grasped.json"}},
+                               {"scenarios", {"small.json", "pressed.json"}},
                                {"models", {{{"name", "condensed"}, {"model", "condensed"}}, {{"model", "pbd"}}}}};
   const Experiment e = load_experiment(write("suite.json", experiment));
   ASSERT_EQ(e.scenarios.size(), 2u);
   EXPECT_EQ(e.scenarios[0].models.size(), 3u);  // the point load: every model takes it
   EXPECT_TRUE(e.scenarios[0].not_run.empty());
-  ASSERT_EQ(e.scenarios[1].models.size(), 2u);  // the grasp: condensed takes no tools
-  EXPECT_EQ(e.scenarios[1].models[0].case_name, "pbd");
+  ASSERT_EQ(e.scenarios[1].models.size(), 2u);  // the sliding plate: pbd takes none
+  EXPECT_EQ(e.scenarios[1].models[0].case_name, "condensed");
   ASSERT_EQ(e.scenarios[1].not_run.size(), 1u);
-  EXPECT_EQ(e.scenarios[1].not_run[0].first, "condensed");
-  EXPECT_NE(e.scenarios[1].not_run[0].second.find("does not take grasp"), std::string::npos)
+  EXPECT_EQ(e.scenarios[1].not_run[0].first, "pbd");
+  EXPECT_NE(e.scenarios[1].not_run[0].second.find("does not take sliding_plate"), std::string::npos)
       << e.scenarios[1].not_run[0].second;
   const nlohmann::json index = e.to_json();
-  EXPECT_EQ(index["scenarios"][1]["not_run"][0]["case"], "condensed");
+  EXPECT_EQ(index["scenarios"][1]["not_run"][0]["case"], "pbd");
   EXPECT_FALSE(index["scenarios"][0].contains("not_run"));
   // Without the key, an unsupported case stays in and fails when it runs (the default).
   experiment.erase("unsupported_cases");
   EXPECT_EQ(load_experiment(write("suite.json", experiment)).scenarios[1].models.size(), 3u);
   // The reference may not be left out.
   experiment["unsupported_cases"] = "skip";
-  experiment["reference"] = "condensed";
-  experiment["scenarios"] = {"grasped.json"};
+  experiment["reference"] = "pbd";
+  experiment["scenarios"] = {"pressed.json"};
   try {
     load_experiment(write("suite.json", experiment));
     FAIL() << "a reference that cannot run a scenario was left out";
   } catch (const ScenarioError& err) {
-    EXPECT_NE(std::string(err.what()).find("reference case 'condensed' cannot run it"), std::string::npos)
+    EXPECT_NE(std::string(err.what()).find("reference case 'pbd' cannot run it"), std::string::npos)
         << err.what();
   }
   experiment["unsupported_cases"] = "sometimes";
@@ -152,22 +153,27 @@ TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSays
 // tissuebench run SUITE --model NAME, NAME a registered model no case runs: a case of
 // it (its defaults) joins every scenario that takes it.
 TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
-  nlohmann::json grasped = grasped_small_cube();
-  write("grasped.json", grasped);
-  write("small.json", small_cube());
+  nlohmann::json pressed = pressed_small_cube();
+  pressed["models"] = nlohmann::json::array();
+  pressed["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+  write("pressed.json", pressed);
+  nlohmann::json loaded = small_cube();
+  loaded["models"] = nlohmann::json::array();
+  loaded["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+  write("small.json", loaded);
   const std::string path = write("suite.json", {{"name", "suite"},
                                                 {"reference", "fem-direct"},
                                                 {"unsupported_cases", "skip"},
-                                                {"scenarios", {"small.json", "grasped.json"}}});
+                                                {"scenarios", {"small.json", "pressed.json"}}});
   Experiment e = load_experiment(path);
-  EXPECT_FALSE(add_model_everywhere(e, "pbd"));     // a case runs it already
+  EXPECT_FALSE(add_model_everywhere(e, "fem"));      // a case runs it already
   EXPECT_FALSE(add_model_everywhere(e, "no_such"));  // not a model: the runner says no case matches
-  ASSERT_TRUE(add_model_everywhere(e, "condensed"));
-  EXPECT_EQ(e.scenarios[0].models.back().case_name, "condensed");
-  EXPECT_EQ(e.scenarios[0].models.back().parameters.choice("precompute"), "surface_vertices");  // its default
-  ASSERT_EQ(e.scenarios[1].not_run.size(), 1u);  // it takes no grasp
-  EXPECT_EQ(e.scenarios[1].not_run[0].first, "condensed");
-  EXPECT_EQ(e.scenarios[1].models.size(), 3u);
+  ASSERT_TRUE(add_model_everywhere(e, "pbd"));
+  EXPECT_EQ(e.scenarios[0].models.back().case_name, "pbd");
+  EXPECT_EQ(e.scenarios[0].models.back().parameters.integer("iterations"), 10);  // its default
+  ASSERT_EQ(e.scenarios[1].not_run.size(), 1u);  // it takes no sliding plate
+  EXPECT_EQ(e.scenarios[1].not_run[0].first, "pbd");
+  EXPECT_EQ(e.scenarios[1].models.size(), 1u);
 }
 
 // tissuebench run --set: one value set in every scenario, as a sweep factor would,

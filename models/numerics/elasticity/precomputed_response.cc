@@ -12,31 +12,63 @@ PrecomputedResponse::PrecomputedResponse(const ElasticBody& body, std::vector<in
   for (int o : outputs_)
     if (o < 0 || o >= body.mesh().V.rows())
       throw std::invalid_argument("precomputed response: output node out of range");
+  // Each group's response to a unit translation of its held components:
+  // K_ff u_f = -K_fp u_p with u_p that translation (the other groups at rest).
+  const size_t n_groups = body.prescribed_groups().size();
+  std::vector<Eigen::Vector3d> unit(n_groups, Eigen::Vector3d::Zero());
+  for (size_t g = 0; g < n_groups; ++g) {
+    groups_.push_back(zero_response());
+    for (int c = 0; c < 3; ++c) {
+      if (!body.prescribed_groups()[g].components[c]) continue;
+      unit[g] = Eigen::Vector3d::Unit(c);
+      f_.setZero(body.free_dofs());
+      body.subtract_prescribed(unit, f_);
+      u_.setZero(body.dofs());
+      direct_->solve(f_, nullptr, u_);
+      body.set_prescribed(unit, u_);
+      f_full_.setZero(body.dofs());
+      store(groups_.back(), c);
+    }
+    unit[g].setZero();
+  }
 }
 
-void PrecomputedResponse::store_outputs(Columns& into, int c) const {
-  for (Eigen::Index o = 0; o < into.rows(); ++o)
-    into.block<1, 3>(o, 3 * c) = u_.segment<3>(3 * outputs_[static_cast<size_t>(o)]).transpose();
+PrecomputedResponse::Response PrecomputedResponse::zero_response() const {
+  return {Columns::Zero(static_cast<Eigen::Index>(outputs_.size()), 9),
+          Columns::Zero(static_cast<Eigen::Index>(body_.prescribed_groups().size() + 1), 9)};
+}
+
+void PrecomputedResponse::store(Response& into, int c) const {
+  for (Eigen::Index o = 0; o < into.outputs.rows(); ++o)
+    into.outputs.block<1, 3>(o, 3 * c) = u_.segment<3>(3 * outputs_[static_cast<size_t>(o)]).transpose();
+  Eigen::Vector3d support;
+  body_.reactions(u_, f_full_, group_work_, support);
+  const Eigen::Index n_groups = into.reactions.rows() - 1;
+  for (Eigen::Index g = 0; g < n_groups; ++g)
+    into.reactions.block<1, 3>(g, 3 * c) = group_work_[static_cast<size_t>(g)].transpose();
+  into.reactions.block<1, 3>(n_groups, 3 * c) = support.transpose();
 }
 
 void PrecomputedResponse::precompute(const std::vector<int>& loaded_nodes) {
-  const auto n_out = static_cast<Eigen::Index>(outputs_.size());
   for (int node : loaded_nodes) {
     if (node < 0 || node >= body_.mesh().V.rows())
       throw std::invalid_argument("precomputed response: loaded node out of range");
     if (slot_[static_cast<size_t>(node)] >= 0) continue;
-    Columns block = Columns::Zero(n_out, 9);
+    Response block = zero_response();
     std::vector<int> rows;  // the node's free dofs: the unit force's nonzero rows
     for (int c = 0; c < 3; ++c)
       if (body_.free_index(3 * node + c) >= 0) rows.push_back(body_.free_index(3 * node + c));
     for (int c = 0; c < 3; ++c) {
       const int free = body_.free_index(3 * node + c);
-      if (free < 0) continue;  // clamped: a force there moves nothing
-      f_.setZero(body_.free_dofs());
-      f_(free) = 1;
       u_.setZero(body_.dofs());
-      direct_->solve(f_, &rows, u_);
-      store_outputs(block, c);
+      if (free >= 0) {  // on a clamped or held dof the force moves nothing: it is that dof's reaction
+        f_.setZero(body_.free_dofs());
+        f_(free) = 1;
+        direct_->solve(f_, &rows, u_);
+      }
+      f_full_.setZero(body_.dofs());
+      f_full_(3 * node + c) = 1;
+      store(block, c);
     }
     slot_[static_cast<size_t>(node)] = static_cast<int>(columns_.size());
     columns_.push_back(std::move(block));
@@ -44,7 +76,7 @@ void PrecomputedResponse::precompute(const std::vector<int>& loaded_nodes) {
 }
 
 void PrecomputedResponse::prepare(const BodyLoads& loads) {
-  load_columns_.assign(loads.size(), Columns());
+  load_columns_.assign(loads.size(), Response());
   for (size_t l = 0; l < loads.size(); ++l) {
     const NodalWeights& w = loads.load(l);
     if (w.size() <= kNodeColumnsUpTo) {
@@ -54,32 +86,46 @@ void PrecomputedResponse::prepare(const BodyLoads& loads) {
       precompute(nodes);
       continue;
     }
-    Columns& own = load_columns_[l];
-    own = Columns::Zero(static_cast<Eigen::Index>(outputs_.size()), 9);
+    Response& own = load_columns_[l];
+    own = zero_response();
     std::vector<Eigen::Vector3d> unit(loads.size(), Eigen::Vector3d::Zero());
     for (int c = 0; c < 3; ++c) {
       unit[l] = Eigen::Vector3d::Unit(c);
       loads.assemble(unit, f_);
       u_.setZero(body_.dofs());
       direct_->solve(f_, nullptr, u_);
-      store_outputs(own, c);
+      loads.assemble_full(unit, f_full_);
+      store(own, c);
     }
   }
   prepared_ = &loads;
 }
 
-void PrecomputedResponse::apply(const BodyLoads& loads, const std::vector<Eigen::Vector3d>& values, Points& out) const {
+void PrecomputedResponse::apply(const BodyLoads& loads, const std::vector<Eigen::Vector3d>& values,
+                                const std::vector<Eigen::Vector3d>& group_values, Points& out,
+                                std::vector<Eigen::Vector3d>* reactions) const {
   if (&loads != prepared_) throw std::logic_error("precomputed response: apply() with loads that were not prepared");
+  if (group_values.size() != groups_.size())
+    throw std::logic_error("precomputed response: apply() with " + std::to_string(group_values.size()) +
+                           " group values for " + std::to_string(groups_.size()) + " groups");
   const auto n_out = static_cast<Eigen::Index>(outputs_.size());
   if (out.rows() != n_out) out.resize(n_out, 3);
   out.setZero();
-  // u_o = sum_c f_c (response of o to a unit force along c)
-  const auto superpose = [&](const Columns& R, const Eigen::Vector3d& f) {
+  if (reactions) reactions->assign(groups_.size() + 1, Eigen::Vector3d::Zero());
+  // value_o = sum_c s_c (response of o to a unit source along c), for the outputs
+  // and, when asked, the reactions.
+  const auto superpose = [&](const Response& R, const Eigen::Vector3d& s) {
     for (Eigen::Index o = 0; o < n_out; ++o)
-      out.row(o) += f(0) * R.block<1, 3>(o, 0) + f(1) * R.block<1, 3>(o, 3) + f(2) * R.block<1, 3>(o, 6);
+      out.row(o) += s(0) * R.outputs.block<1, 3>(o, 0) + s(1) * R.outputs.block<1, 3>(o, 3) +
+                    s(2) * R.outputs.block<1, 3>(o, 6);
+    if (!reactions) return;
+    for (Eigen::Index r = 0; r < R.reactions.rows(); ++r)
+      (*reactions)[static_cast<size_t>(r)] += (s(0) * R.reactions.block<1, 3>(r, 0) +
+                                               s(1) * R.reactions.block<1, 3>(r, 3) +
+                                               s(2) * R.reactions.block<1, 3>(r, 6)).transpose();
   };
   for (size_t l = 0; l < loads.size(); ++l) {
-    if (load_columns_[l].rows() > 0) {
+    if (load_columns_[l].outputs.rows() > 0) {
       superpose(load_columns_[l], values[l]);
       continue;
     }
@@ -89,12 +135,14 @@ void PrecomputedResponse::apply(const BodyLoads& loads, const std::vector<Eigen:
       superpose(columns_[static_cast<size_t>(slot_[static_cast<size_t>(w.nodes(k))])], w.weights(k) * values[l]);
     }
   }
+  for (size_t g = 0; g < groups_.size(); ++g) superpose(groups_[g], group_values[g]);
 }
 
 double PrecomputedResponse::memory_bytes() const {
-  size_t blocks = columns_.size();
-  for (const Columns& c : load_columns_) blocks += c.rows() > 0 ? 1 : 0;
-  return static_cast<double>(blocks) * 9.0 * static_cast<double>(outputs_.size()) * sizeof(double);
+  size_t blocks = columns_.size() + groups_.size();
+  for (const Response& c : load_columns_) blocks += c.outputs.rows() > 0 ? 1 : 0;
+  const double per_block = 9.0 * static_cast<double>(outputs_.size() + groups_.size() + 1) * sizeof(double);
+  return static_cast<double>(blocks) * per_block;
 }
 
 }  // namespace tb

@@ -32,17 +32,55 @@ TB_PBD_INLINE void project_batch(const typename LaneTraits<L>::S* x, const KindS
   K::project(p, w, rest, k.stiffness, k.options, corr);
 }
 
-/// Projects batches [begin, end) of kind K in order (or reversed), each written back before the next.
+/// Lane values of a batch's corrections: xyz[j][d][l] is slot j's component d in lane l.
+template <class L, size_t N>
+TB_PBD_INLINE void spill_corrections(const Triple<L> corr[N], typename LaneTraits<L>::S xyz[N][3][LaneTraits<L>::W]) {
+  for (size_t j = 0; j < N; ++j) {
+    __builtin_memcpy(xyz[j][0], &corr[j].x, sizeof(L));
+    __builtin_memcpy(xyz[j][1], &corr[j].y, sizeof(L));
+    __builtin_memcpy(xyz[j][2], &corr[j].z, sizeof(L));
+  }
+}
+
+/// Batch b's recorded lanes (CorrectionRecord): their momentum added to their sums.
 template <class K, class L>
-TB_PBD_INLINE void sweep_range(typename LaneTraits<L>::S* x, const KindSweep<typename LaneTraits<L>::S>& k,
-                               size_t begin, size_t end, bool reverse) {
+TB_PBD_INLINE void record_batch(CorrectionRecord& record, size_t b, const Triple<L> corr[K::kArity]) {
+  using S = typename LaneTraits<L>::S;
+  constexpr size_t N = K::kArity, W = LaneTraits<L>::W;
+  const int first = record.batch_first[b], last = record.batch_first[b + 1];
+  if (first == last) return;
+  S xyz[N][3][W];
+  spill_corrections<L, N>(corr, xyz);
+  for (int r = first; r < last; ++r) {
+    const int l = record.lane[static_cast<size_t>(r)];
+    record.add(r, [&](int j) {
+      return Vec3(double(xyz[j][0][l]), double(xyz[j][1][l]), double(xyz[j][2][l]));
+    });
+  }
+}
+
+/// Projects batches [begin, end) of kind K in order (or reversed), each written
+/// back before the next; with kRecord, the recorded lanes' momentum summed too.
+template <class K, class L, bool kRecord>
+TB_PBD_INLINE void sweep_batches(typename LaneTraits<L>::S* x, const KindSweep<typename LaneTraits<L>::S>& k,
+                                 size_t begin, size_t end, bool reverse) {
   constexpr size_t N = K::kArity, W = LaneTraits<L>::W;
   for (size_t i = begin; i < end; ++i) {
     const size_t b = reverse ? end - 1 - (i - begin) : i;
     Triple<L> p[N], corr[N];
     project_batch<K, L>(x, k, b, p, corr);
+    if constexpr (kRecord) record_batch<K, L>(*k.record, b, corr);
     for (size_t j = 0; j < N; ++j) scatter_corrected(x, &k.layout.q[(b * N + j) * W], k.layout.count[b], p[j], corr[j]);
   }
+}
+/// sweep_batches, recording only when the kind has a record (the plain loop otherwise).
+template <class K, class L>
+TB_PBD_INLINE void sweep_range(typename LaneTraits<L>::S* x, const KindSweep<typename LaneTraits<L>::S>& k,
+                               size_t begin, size_t end, bool reverse) {
+  if (k.record)
+    sweep_batches<K, L, true>(x, k, begin, end, reverse);
+  else
+    sweep_batches<K, L, false>(x, k, begin, end, reverse);
 }
 
 /// The corrections of every lane of every batch of kind K, stored by constraint row.
@@ -55,14 +93,11 @@ TB_PBD_INLINE void record_corrections(const typename LaneTraits<L>::S* x, const 
   for (size_t b = 0; b < k.layout.batch_count(); ++b) {
     Triple<L> p[N], corr[N];
     project_batch<K, L>(x, k, b, p, corr);
-    for (int j = 0; j < N; ++j) {
-      S xyz[3][W];
-      __builtin_memcpy(xyz[0], &corr[j].x, sizeof(L));
-      __builtin_memcpy(xyz[1], &corr[j].y, sizeof(L));
-      __builtin_memcpy(xyz[2], &corr[j].z, sizeof(L));
+    S xyz[N][3][W];
+    spill_corrections<L, static_cast<size_t>(N)>(corr, xyz);
+    for (int j = 0; j < N; ++j)
       for (int l = 0; l < k.layout.count[b]; ++l)
-        for (int d = 0; d < 3; ++d) out(order[next + static_cast<size_t>(l)], 3 * j + d) = xyz[d][l];
-    }
+        for (int d = 0; d < 3; ++d) out(order[next + static_cast<size_t>(l)], 3 * j + d) = xyz[j][d][l];
     next += static_cast<size_t>(k.layout.count[b]);
   }
 }

@@ -51,6 +51,33 @@ struct BatchNumbers {
   std::vector<S, AlignedAllocator<S>> rest;  ///< #batches by rest values by width
 };
 
+/// The constraints of one kind whose corrections a sweep sums: those between a
+/// pinned vertex of a group (a tool, the support) and free vertices. What such a
+/// constraint adds to the free vertices' momentum, sum_j m_j dp_j (m_j the mass of
+/// free slot j), is what the pinned vertex took from them: summed over a step's
+/// sweeps and divided by h^2, the force on the group (pbd_solver.h,
+/// Solver::group_forces). Each record r is a constraint row in a group, with its
+/// slots' masses (0 for a pinned slot) and its running sum; the batched sweep
+/// finds batch b's records in [batch_first[b], batch_first[b + 1]) at their lanes,
+/// the scalar pass through of_row. Written by the one member that sweeps its batch.
+struct CorrectionRecord {
+  int arity = 0;
+  std::vector<int> row, group, lane;  ///< per record
+  std::vector<double> mass;           ///< per record, arity slots
+  std::vector<int> batch_first;       ///< #batches + 1
+  std::vector<int> of_row;            ///< per constraint row of the kind: its record, or -1
+  std::vector<Vec3> sum;              ///< per record: sum over the sweeps of sum_j m_j dp_j
+  bool empty() const { return row.empty(); }
+  /// Record r's constraint moved its slots by corr(j) (j < arity): adds the momentum.
+  template <class Corr>
+  void add(int r, Corr&& corr) {
+    for (int j = 0; j < arity; ++j) {
+      const double m = mass[static_cast<size_t>(r * arity + j)];
+      if (m != 0) sum[static_cast<size_t>(r)] += m * corr(j);
+    }
+  }
+};
+
 /// One kind's batches as a sweep projects them, in precision S.
 template <class S>
 struct KindSweep {
@@ -58,6 +85,7 @@ struct KindSweep {
   const BatchNumbers<S>& numbers;
   double stiffness;
   ProjectionOptions options;
+  CorrectionRecord* record = nullptr;  ///< the corrections to sum, or null (none: the plain sweep)
 };
 
 }  // namespace tb::pbd

@@ -86,8 +86,9 @@ void member_sweeps(const SweepPlan<S>& plan, int member) {
     for (size_t k = 0; k < plan.kinds.size(); ++k) {
       if (!(plan.stiffness[k] > 0)) continue;
       const KindBatches& kind = plan.kinds[k];
+      CorrectionRecord* record = plan.records && !(*plan.records)[k].empty() ? &(*plan.records)[k] : nullptr;
       const KindPass<S> pass{kind.layout,
-                             {kind.layout, kind.numbers<S>(), plan.stiffness[k], plan.options},
+                             {kind.layout, kind.numbers<S>(), plan.stiffness[k], plan.options, record},
                              kind.kind->kernels<S>().sweep[index(plan.isa)],
                              plan.x,
                              plan.team};

@@ -26,6 +26,8 @@ struct SweepPlan {
   int iterations;
   bool first_reverse;
   ThreadTeam* team;
+  /// One per kind, the corrections to sum (batch_layout.h), or null: none.
+  std::vector<CorrectionRecord>* records = nullptr;
 };
 
 /// `iterations` sweeps, the first forward (or reverse), then alternating; each

@@ -58,9 +58,11 @@ class ConstraintBatches {
   ///   positions  #V by kPositionStride, row-major (x, y, z, unused), updated in
   ///              place; the unused column is overwritten with zeros
   ///   stiffness  one per kind, in [0, 1]
+  ///   records    null, or one per kind: the corrections to sum (batch_layout.h,
+  ///              made for this packing by record_corrections)
   template <class S>
   void sweep(S* positions, bool reverse, const std::vector<double>& stiffness, const ProjectionOptions& options,
-             InstructionSet isa) const;
+             InstructionSet isa, std::vector<CorrectionRecord>* records = nullptr) const;
 
   /// `iterations` sweeps, alternately forward and reverse (symmetric Gauss-Seidel),
   /// the domains shared out between the members of `team` (null: this thread
@@ -68,7 +70,16 @@ class ConstraintBatches {
   /// The result is bitwise the same for any team size. No heap allocation.
   template <class S>
   void project(S* positions, int iterations, const std::vector<double>& stiffness, const ProjectionOptions& options,
-               InstructionSet isa, ThreadTeam* team) const;
+               InstructionSet isa, ThreadTeam* team, std::vector<CorrectionRecord>* records = nullptr) const;
+
+  /// The records (one per kind, in the kinds' order) of the constraints that join a
+  /// vertex of a group to a free vertex, for this packing: group_of_vertex[v] >= 0
+  /// names v's group (a pinned vertex: inverse mass 0), -1 none; a constraint
+  /// touching two groups' vertices is recorded in the group of its first such slot.
+  ///   constraints, inverse_mass  those the batches were packed from
+  std::vector<CorrectionRecord> record_corrections(const ConstraintSet& constraints,
+                                                   const Eigen::VectorXd& inverse_mass,
+                                                   const std::vector<int>& group_of_vertex) const;
 
   /// The kernels' corrections of every constraint at `positions`, nothing moved
   /// (all constraints projected from the same positions): for comparing the SIMD

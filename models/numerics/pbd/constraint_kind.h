@@ -66,6 +66,7 @@ struct ScalarPass {
   double stiffness;                    ///< PBD
   const Eigen::VectorXd* alpha_tilde;  ///< XPBD: alpha / h^2 per constraint row
   Eigen::VectorXd* lambda;             ///< XPBD: the multiplier per constraint row
+  CorrectionRecord* record = nullptr;  ///< the corrections to sum (batch_layout.h), or null
 };
 
 /// A kind's batched kernel in precision S, one function per instruction set

@@ -261,7 +261,19 @@ void Solver::step(const std::vector<Eigen::Vector3d>& load_values, const std::ve
       sphere_force_[k].setZero();
     }
   }
+  for (CorrectionRecord& r : records_) std::fill(r.sum.begin(), r.sum.end(), Vec3::Zero());
   for (int k = 0; k < s_.substeps; ++k) substep(h, load_values, pinned, pinned_positions);
+  if (!group_force_.empty()) {
+    for (Eigen::Vector3d& f : group_force_) f.setZero();
+    for (const CorrectionRecord& r : records_)
+      for (size_t i = 0; i < r.sum.size(); ++i) group_force_[static_cast<size_t>(r.group[i])] += r.sum[i];
+    for (Eigen::Vector3d& f : group_force_) f /= -(h * h * s_.substeps);
+    for (size_t l = 0; l < loads_.size(); ++l)  // a load's share on a held vertex goes to its holder
+      for (Eigen::Index k = 0; k < loads_[l].size(); ++k) {
+        const int g = group_of_vertex_[static_cast<size_t>(loads_[l].nodes(k))];
+        if (g >= 0) group_force_[static_cast<size_t>(g)] += loads_[l].weights(k) * load_values[l];
+      }
+  }
   if (spheres > 0) {
     max_displacement_ = 0;
     for (Eigen::Index v = 0; v < x_.rows(); ++v)
@@ -285,6 +297,30 @@ void Solver::step(const std::vector<Eigen::Vector3d>& load_values, const std::ve
       sphere_depth_[k] = depth;
     }
   }
+}
+
+void Solver::set_reaction_groups(const std::vector<int>& group_of_vertex, int groups) {
+  if (group_of_vertex.size() != static_cast<size_t>(rest_.rows()))
+    throw std::invalid_argument("PBD solver: one reaction group per vertex expected");
+  for (size_t v = 0; v < group_of_vertex.size(); ++v) {
+    if (group_of_vertex[v] < -1 || group_of_vertex[v] >= groups)
+      throw std::invalid_argument("PBD solver: reaction group " + std::to_string(group_of_vertex[v]) + " of vertex " +
+                                  std::to_string(v) + " outside [-1, " + std::to_string(groups) + ")");
+    if (group_of_vertex[v] >= 0 && w_(static_cast<Eigen::Index>(v)) != 0)
+      throw std::invalid_argument("PBD solver: vertex " + std::to_string(v) + " of a reaction group is not pinned");
+  }
+  group_of_vertex_ = group_of_vertex;
+  group_force_.assign(static_cast<size_t>(groups), Eigen::Vector3d::Zero());
+  record_groups();
+}
+
+void Solver::record_groups() {
+  records_.clear();
+  if (group_of_vertex_.empty()) return;
+  records_ = batches_.record_corrections(c_, w_, group_of_vertex_);
+  bool any = false;
+  for (const CorrectionRecord& r : records_) any = any || !r.empty();
+  if (!any) records_.clear();  // nothing to sum: the plain sweeps
 }
 
 void Solver::set_spheres(const Points& centres, const Eigen::VectorXd& radii) {
@@ -386,10 +422,10 @@ void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values,
       for (Eigen::VectorXd& lambda : lambda_) lambda.setZero();
     for (int it = 0; it < s_.iterations; ++it) {
       if (single) {
-        batches_.sweep(q_.data(), it % 2 == 1, k_, options, isa_);
+        batches_.sweep(q_.data(), it % 2 == 1, k_, options, isa_, records());
         project_spheres(q_.data());
       } else if (s_.kernels == Kernels::Simd) {
-        batches_.sweep(p_.data(), it % 2 == 1, k_, options, isa_);
+        batches_.sweep(p_.data(), it % 2 == 1, k_, options, isa_, records());
         project_spheres(p_.data());
       } else {
         scalar_sweep(it % 2 == 1, xpbd);
@@ -398,9 +434,9 @@ void Solver::substep(double dt, const std::vector<Eigen::Vector3d>& load_values,
     }
     for (size_t k = 0; k < sphere_force_.size(); ++k) sphere_force_[k] += sphere_dp_[k];
   } else if (single) {
-    batches_.project(q_.data(), s_.iterations, k_, options, isa_, team_.get());
+    batches_.project(q_.data(), s_.iterations, k_, options, isa_, team_.get(), records());
   } else if (s_.kernels == Kernels::Simd) {
-    batches_.project(p_.data(), s_.iterations, k_, options, isa_, team_.get());
+    batches_.project(p_.data(), s_.iterations, k_, options, isa_, team_.get(), records());
   } else {
     const bool xpbd = s_.constraint_solve == ConstraintSolve::Xpbd;
     if (xpbd)
@@ -451,7 +487,10 @@ nlohmann::json Solver::details() const {
 }
 
 void Solver::use_instruction_set(InstructionSet isa) {
-  if (batch_width(isa, s_.precision) != batches_.width()) batches_ = pack_batches(batch_width(isa, s_.precision));
+  if (batch_width(isa, s_.precision) != batches_.width()) {
+    batches_ = pack_batches(batch_width(isa, s_.precision));
+    record_groups();  // the records name batches and lanes of the packing
+  }
   isa_ = isa;
 }
 
@@ -483,7 +522,8 @@ void Solver::scalar_sweep(bool reverse, bool xpbd) {
                           {s_.bending_angle},
                           k_[k],
                           xpbd ? &alpha_tilde_[k] : nullptr,
-                          &lambda_[k]};
+                          &lambda_[k],
+                          records_.empty() || records_[k].empty() ? nullptr : &records_[k]};
     (xpbd ? kind.kind->xpbd_pass : kind.kind->reference_pass)(pass, reverse);
   }
 }

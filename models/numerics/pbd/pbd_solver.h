@@ -145,6 +145,24 @@ class Solver {
   /// The vertices the last step() tested against each sphere (the grid query).
   const std::vector<std::vector<int>>& sphere_candidates() const { return sphere_candidates_; }
 
+  /// Measures, in the following step()s, the force the surface exerts on groups of
+  /// pinned vertices (a tool's, the support's): group_of_vertex[v] in [0, groups)
+  /// for a vertex of a group (it must have inverse mass 0), -1 for the others. A
+  /// set-up call (allocates); no cost to a step when no group has a constraint
+  /// reaching a free vertex.
+  void set_reaction_groups(const std::vector<int>& group_of_vertex, int groups);
+  /// After step(), per group: the force the surface exerts on its pinned vertices
+  /// (N), F_g = -sum_c sum_j m_j dp_cj / h^2 + f_g: the momentum every constraint c
+  /// joining the group to free vertices j gave them over the frame's Gauss-Seidel
+  /// sweeps (the pinned vertex took the opposite; Newton's third law, the
+  /// constraints being translation invariant), per sub-step of h and averaged over
+  /// the sub-steps, plus f_g, the loads' shares on the group's own vertices (which
+  /// the pins hold). At rest the sweeps undo exactly what the loads predicted,
+  /// (1 - damping) h^2 f / m per free vertex, so the groups' forces sum to
+  /// (1 - damping) times the loads on free vertices plus f_g: PBD's damping takes
+  /// its share of the load (docs/equations.md, "Reactions in PBD").
+  const std::vector<Eigen::Vector3d>& group_forces() const { return group_force_; }
+
   const Points& positions() const { return x_; }
   const Points& rest_positions() const { return rest_; }
   const ConstraintSet& constraints() const { return c_; }
@@ -206,6 +224,15 @@ class Solver {
   std::vector<std::vector<int>> sphere_candidates_, sphere_contact_;
   std::vector<Eigen::Vector3d> sphere_force_, sphere_dp_;
   std::vector<double> sphere_depth_;
+  // Reaction groups (set_reaction_groups): each vertex's group, each kind's records
+  // for the current packing (empty: none), each group's force after a step.
+  std::vector<int> group_of_vertex_;
+  std::vector<CorrectionRecord> records_;
+  std::vector<Eigen::Vector3d> group_force_;
+  /// records_ for batches_ (after a repacking), or none when no kind has one.
+  void record_groups();
+  /// What a sweep sums: records_, or null when there is none.
+  std::vector<CorrectionRecord>* records() { return records_.empty() ? nullptr : &records_; }
   /// Every sphere's projection on its candidates (positions S: double or float
   /// rows); `dp` accumulates each sphere's total correction x mass.
   template <class S>

@@ -34,6 +34,8 @@ void scalar_pass(const ScalarPass& a, bool reverse) {
     else
       K::reference(p, w, rest, a.stiffness, a.options, corr);
     for (int j = 0; j < N; ++j) P(q[j]) += corr[j];
+    if (a.record && a.record->of_row[static_cast<size_t>(i)] >= 0)
+      a.record->add(a.record->of_row[static_cast<size_t>(i)], [&corr](int j) { return corr[j]; });
   }
 }
 
