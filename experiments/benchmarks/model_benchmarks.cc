@@ -188,10 +188,10 @@ void BM_EmbeddedFrame(benchmark::State& state) { model_frame(state, "embedded");
 /// pairs within one benchmark so the VM's drift hits both alike: each iteration
 /// steps the model once with the point force alone and once with range(1) = 1 a
 /// grasp (5 mm radius at the top, lifted), 2 a bonded plate on a side, 3 gravity
-/// added. range(0): 0 fem (direct), 1 embedded, 2 pbd, 3 hybrid. Counters: each
+/// added. range(0): 0 fem (direct), 1 embedded, 2 pbd, 3 hybrid, 4 condensed. Counters: each
 /// one's ms per frame and their ratio; the iteration time is the second one's.
 void BM_FrameWithToolOrLoad(benchmark::State& state) {
-  const char* names[] = {"fem", "embedded", "pbd", "hybrid"};
+  const char* names[] = {"fem", "embedded", "pbd", "hybrid", "condensed"};
   const std::string model = names[state.range(0)];
   const HybridMesh& mesh = cube_mesh(1);
   const ModelInfo& info = find_model(model);
@@ -471,7 +471,7 @@ BENCHMARK(BM_CondensedFrame)->ArgNames({"liver", "iterations"})->Args({0, 10});
 BENCHMARK(BM_EmbeddedFrame)->ArgNames({"liver", "iterations"})->ArgsProduct({{0, 1}, {10}});
 BENCHMARK(BM_FrameWithToolOrLoad)
     ->ArgNames({"model", "with"})
-    ->ArgsProduct({{0, 1, 2, 3}, {1, 2, 3}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2, 3}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CondensedSetup)->ArgName("liver")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
