@@ -139,10 +139,12 @@ void describe_fine_fem(ModelInfo& m) {
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
   m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices, as Dirichlet values (K_ff u_f = f_f - K_fp u_p); "
-                "a sliding plate holds the normal component only (not with the corotational solver); a sphere: "
-                "an active set of normal contact multipliers on the factorised K (linear solvers only)";
-  m.reactions = "f - K u at the held dofs, summed per tool and over the support (static equilibrium); a sphere: "
-                "minus the sum of its contact multipliers lambda_i n_i";
+                "a sliding plate holds the normal component only (the corotational solver: on its rotated system); a "
+                "sphere: an active set of normal contact multipliers on the factorised K (direct or iterative solver "
+                "only)";
+  m.reactions = "f - K u at the held dofs (f - f_int(u) for the corotational and Newton solves), summed per tool "
+                "and over the support (static equilibrium); a sphere: minus the sum of its contact multipliers "
+                "lambda_i n_i";
   m.probes = "P1 interpolation in the fine tet containing the probe";
 }
 

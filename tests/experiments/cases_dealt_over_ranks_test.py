@@ -4,7 +4,7 @@
 each case dealt to one rank is written by that rank alone and is byte for byte the
 one-process result (every file but timings.json and run.json, which hold times and
 the machine); the distributed FEM, run by both ranks together, agrees to 1e-8; both
-ranks wrote cases; the case that fails (the condensed FEM takes no grasp) is
+ranks wrote cases; the case that fails (the hybrid with exact_fine_fem control points takes no grasp) is
 reported by rank 0's summary and leaves its .failed.json, and the other cases of
 its rank still run; no staging folder is left.
 
@@ -37,12 +37,12 @@ with tempfile.TemporaryDirectory() as tmp:
             cli, "run", experiment, "--out", os.path.join(tmp, f"np{ranks}"),
             "--mesh-cache", os.path.join(tmp, f"cache{ranks}")]
         runs[ranks] = subprocess.run(command, capture_output=True, text=True, timeout=600)
-        # One case fails (condensed): the exit status says so, rank 0's summary counts it.
+        # One case fails (hybrid-exact): the exit status says so, rank 0's summary counts it.
         check(runs[ranks].returncode != 0, f"np{ranks}: exit status 0 though a case failed")
         check("6 of 7 cases written" in runs[ranks].stderr,
               f"np{ranks}: no '6 of 7 cases written' in stderr:\n{runs[ranks].stderr}")
     folder = {n: os.path.join(tmp, f"np{n}", "mpi-dealt", "mpi-dealt") for n in (1, 2)}
-    check(os.path.exists(os.path.join(folder[2], "condensed.failed.json")), "np2: no condensed.failed.json")
+    check(os.path.exists(os.path.join(folder[2], "hybrid-exact.failed.json")), "np2: no hybrid-exact.failed.json")
     check(os.path.exists(os.path.join(folder[2], "mesh", "summary.json")), "np2: the mesh folder was not written")
     writers = set()
     for case in DEALT:

@@ -64,7 +64,11 @@ TEST_F(ToolScenarios, ToolsLoadsAndProbesReachTheResults) {
   EXPECT_TRUE(pbd["observables"]["probes"]["file"].is_null());
   EXPECT_NE(pbd["observables"]["probes"]["why_not"].get<std::string>().find("no volume"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(folder / "pbd" / "probes.csv"));
-  EXPECT_FALSE(std::filesystem::exists(folder / "pbd" / "reactions.csv"));
+  // PBD measures the force on its pins (docs/equations.md, "Reactions in PBD").
+  const std::string pbd_reactions = read(folder / "pbd" / "reactions.csv");
+  EXPECT_NE(pbd_reactions.find(",tools[0],grasp,"), std::string::npos);
+  EXPECT_NE(pbd_reactions.find(",support,support,"), std::string::npos);
+  EXPECT_EQ(pbd_reactions.find("nan"), std::string::npos) << pbd_reactions.substr(0, 300);
   EXPECT_TRUE(std::filesystem::exists(folder / "embedded" / "reactions.csv"));
 }
 

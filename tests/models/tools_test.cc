@@ -23,28 +23,6 @@ namespace {
 
 const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
 
-/// Nodes on the boundary of a tet mesh: those of faces that belong to one tet.
-std::vector<int> boundary_nodes(const TetMesh& m) {
-  std::map<std::array<int, 3>, int> faces;
-  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f;
-      int k = 0;
-      for (int j = 0; j < 4; ++j)
-        if (j != skip) f[static_cast<size_t>(k++)] = m.T(t, j);
-      std::sort(f.begin(), f.end());
-      ++faces[f];
-    }
-  std::vector<char> on(static_cast<size_t>(m.V.rows()), 0);
-  for (const auto& [f, count] : faces)
-    if (count == 1)
-      for (int n : f) on[static_cast<size_t>(n)] = 1;
-  std::vector<int> out;
-  for (size_t n = 0; n < on.size(); ++n)
-    if (on[n]) out.push_back(static_cast<int>(n));
-  return out;
-}
-
 /// The patch test: a linear displacement u = A x + b prescribed on the whole
 /// boundary is reproduced at every interior node by linear elements, to round-off;
 /// probes interpolate it exactly, and the boundary forces of a uniform stress sum to 0.
@@ -55,7 +33,7 @@ TEST(PatchTest, ALinearFieldOnTheBoundaryIsReproducedInside) {
   const Eigen::Vector3d b(1e-4, -2e-4, 3e-4);
   std::vector<PrescribedGroup> groups;
   std::vector<Eigen::Vector3d> values;
-  for (int n : boundary_nodes(m)) {
+  for (int n : testing::boundary_nodes(m)) {
     groups.push_back({{n}, {true, true, true}});
     values.push_back(A * m.V.row(n).transpose() + b);
   }

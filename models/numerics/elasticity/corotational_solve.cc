@@ -30,6 +30,10 @@ namespace {
 /// corotational force balance then holds to that tolerance. "per_frame" makes one
 /// update and one solve per call, as interactive simulators do (the rotations lag
 /// one frame; a static load converges over the frames).
+/// Prescribed displacements (grasps, plates) are Dirichlet values on the rotated
+/// system: with the held dofs u_p set in u by the caller, each update solves
+/// K_R,ff u_f = f_f + c_f - K_R,fp u_p, and the reactions are f - f_int at the held
+/// dofs with f_int = K_R u - c, the corotational elastic force (internal_force()).
 class CorotationalSolve : public ElasticSolve {
  public:
   /// The options of this strategy alone (its parameters, corotational_solve_info).
@@ -52,8 +56,6 @@ class CorotationalSolve : public ElasticSolve {
         max_updates_(o.max_updates),
         relaxation_(o.relaxation),
         work_(body.free_dofs()) {
-    if (!body.prescribed_groups().empty())
-      throw std::invalid_argument("the corotational solve takes no prescribed displacements (grasps, plates) yet");
     if (o.update != "converged" && o.update != "per_frame")
       throw std::invalid_argument("corotational update '" + o.update + "' is neither converged nor per_frame");
     if (max_updates_ < 1) throw std::invalid_argument("corotational_max_updates must be at least 1");
@@ -61,12 +63,22 @@ class CorotationalSolve : public ElasticSolve {
       throw std::invalid_argument("corotational_relaxation must be in (0, 1]");
     const int n = body.free_dofs();
     for (Eigen::VectorXd* v : {&b_, &x_, &x_previous_, &step_, &step_previous_, &step_change_}) v->setZero(n);
-    for (Eigen::VectorXd* v : {&p_full_, &y_full_}) v->setZero(body.dofs());
+    for (Eigen::VectorXd* v : {&p_full_, &y_full_, &held_, &f_int_}) v->setZero(body.dofs());
   }
+
+  /// The rotated stiffness is not K: the caller sets the held values in u and passes
+  /// the external force alone (ElasticFrame), and reactions use internal_force().
+  bool linear() const override { return false; }
+  const Eigen::VectorXd* internal_force() const override { return &f_int_; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
     if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
     body_.to_free(u, x_);
+    // u with its free dofs zeroed: the held values alone, lifted into b each update.
+    held_ = u;
+    for (int d = 0; d < body_.dofs(); ++d)
+      if (body_.free_index(d) >= 0) held_(d) = 0;
+    const bool lift = held_.lpNorm<Eigen::Infinity>() > 0;
     const auto apply = [this](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
       body_.to_full(p, p_full_);  // clamped dofs stay 0
       elements_.apply_stiffness(p_full_, y_full_);
@@ -79,6 +91,11 @@ class CorotationalSolve : public ElasticSolve {
       elements_.update_rotations(u);
       body_.to_free(elements_.offset(), b_);
       b_ += f_free;
+      if (lift) {  // - K_R,fp u_p
+        elements_.apply_stiffness(held_, y_full_);
+        body_.to_free(y_full_, lift_);
+        b_ -= lift_;
+      }
       x_previous_ = x_;
       // In "converged", an inexact solve: CG reduces this update's residual by
       // kForcing only (the next update changes the system anyway), down to
@@ -104,7 +121,10 @@ class CorotationalSolve : public ElasticSolve {
       max_updates_seen_ = std::max(max_updates_seen_, update);
       max_inverted_ = std::max(max_inverted_, elements_.inverted_elements());
       max_svd_fallbacks_ = std::max(max_svd_fallbacks_, elements_.svd_fallbacks());
-      if (!converge_ || iterations == 0) break;
+      if (!converge_ || iterations == 0) {
+        elements_.elastic_force(u, f_int_);  // at the rotations of this update (converged: of u, to cg_tolerance)
+        break;
+      }
       if (update == max_updates_)
         throw std::runtime_error("corotational solve: the rotations still change the solution after " +
                                  std::to_string(max_updates_) +
@@ -139,6 +159,8 @@ class CorotationalSolve : public ElasticSolve {
   Eigen::VectorXd step_, step_previous_, step_change_;  ///< free dofs: d^k, d^{k-1}, their difference
   Eigen::VectorXd b_, x_, x_previous_;                  ///< free dofs: right-hand side f + c, solution, u^k
   Eigen::VectorXd p_full_, y_full_;                     ///< 3 #V: K_R's argument and product
+  Eigen::VectorXd held_, f_int_;                        ///< 3 #V: the held values alone; K_R u - c
+  Eigen::VectorXd lift_;                                ///< free dofs: K_R,fp u_p
   int last_iterations_ = 0, last_updates_ = 0, max_updates_seen_ = 0, max_inverted_ = 0, max_svd_fallbacks_ = 0;
 };
 
