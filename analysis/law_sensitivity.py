@@ -1,4 +1,4 @@
-"""The law's own uncertainty on every suite scenario: how far the answers of two
+"""The law's own uncertainty on every suite scenario: how far the answers of three
 standard neo-Hookean laws (and the linear law) lie apart, beside how far the ranked
 models lie from the reference, so that no ranking claims more than the law allows.
 
@@ -10,9 +10,10 @@ under law_references (the suite's reference-isochoric and reference-stable: the 
 Newton solve under another law), and the linear law: the first case of the
 reference's model whose run.json reports a linear solve (fem-linear). A case's law is
 the one its run.json's model report names (fine_solve.material_law). The ranked
-models are every other case (results_index.Experiment.is_reference). --with takes the
-law references from another run of the suite (the law cases run alone) and scores
-them beside RESULTS' cases, on the same meshes (the rest positions are checked).
+models are the cases that are none of the references (results_index.Experiment.
+is_reference). --with takes the law references from another run of the suite (the
+law cases run alone) and scores them beside RESULTS' cases, on the same meshes (the
+rest positions are checked).
 
 For each scenario, between each pair of laws and between each ranked model and the
 reference:
@@ -20,7 +21,9 @@ reference:
   vertex's displacement vector (the leaderboard's relative L2; u_ref the reference's);
 - probes: the same over the scenario's interior probes (the beads on the Truth Cube);
 - tool force: at the last frame, the largest over the tools of |F_a - F_b| / |F_ref|;
-- on the Truth Cube, each law's RMS bead error (mm, as analysis/truth_cube.py).
+- on the Truth Cube, each law's RMS bead error (mm, as analysis/truth_cube.py);
+and the ranked models' surface errors with each other nonlinear law's answer as the
+reference: which pairs of models change order.
 Writes OUT/tables/law_sensitivity.md (a paragraph on what it means for the ranking,
 then the tables) and OUT/tables/law_sensitivity.csv (one value a row).
 """
@@ -46,6 +49,7 @@ LINEAR = "linear"
 SHORT_NAMES = {"neo_hookean": "coupled", "neo_hookean_isochoric": "isochoric", "stable_neo_hookean": "stable",
                LINEAR: "linear"}
 LINEAR_SOLVES = ("direct", "iterative")
+TIE = 1e-9  # two errors closer than this, relative, are the same place in a ranking
 
 
 def short(law):
@@ -210,7 +214,20 @@ def scenario_values(exp, role, beads):
     if beads is not None:
         bead_values = {short(law): beads.rms_mm(cases[name]) for law, name in laws.items()}
         bead_values.update(spread({n: beads.rms_mm(cases[n]) for n in ranked}))
-    return {"laws": laws, "norms": norms, "values": values, "beads": bead_values}
+    # The ranked models' surface errors with each nonlinear law's answer as the reference.
+    rankings = {short(law): {n: obs.field(n, name) for n in ranked} for law, name in laws.items() if law != LINEAR}
+    return {"laws": laws, "norms": norms, "values": values, "beads": bead_values, "rankings": rankings}
+
+
+def swapped(errors, other):
+    """The pairs of models (a, b) ordered one way by `errors` and the other way by
+    `other` ({model: error}, finite ones only), and how many pairs there are."""
+    models = [m for m in errors if math.isfinite(errors[m]) and math.isfinite(other.get(m, float("nan")))]
+    pairs = list(itertools.combinations(sorted(models, key=errors.get), 2))
+
+    def before(e, a, b):  # a strictly before b: equal answers (fem-linear and condensed) are a tie, not a swap
+        return e[b] - e[a] > TIE * max(abs(e[a]), abs(e[b]))
+    return [(a, b) for a, b in pairs if before(errors, a, b) and before(other, b, a)], len(pairs)
 
 
 def summary(everything):
@@ -237,10 +254,28 @@ def summary(everything):
         text += " Ranked models below the gap (surface field): " + "; ".join(limited) + "."
     if free:
         text += (" No ranked model is below it in " + ", ".join(free) + ": there every model is further from the "
-                 "reference than the laws are from each other. Another of these laws as the reference would move "
-                 "each error by at most about the gap (the triangle inequality), so only models whose errors differ "
-                 "by less than twice the gap could swap places.")
+                 "reference than the laws are from each other.")
+    changes = ranking_changes(everything)
+    text += (" Measured directly (the last table), with another neo-Hookean law's answer as the reference the "
+             "ranked models change order in " + "; ".join(f"{role} ({', '.join(pairs)})" for role, pairs in
+                                                           changes.items())
+             + "; in every other scenario their order is the same under all three laws." if changes else
+             " Measured directly (the last table), the ranked models keep their order with any of these laws' "
+             "answers as the reference.")
     return text
+
+
+def ranking_changes(everything):
+    """{role: ['a/b under law', ...]}: the pairs of ranked models in another order (surface
+    field) with another nonlinear law's answer as the reference, where there are any."""
+    out = {}
+    for role, r in everything.items():
+        coupled = r["rankings"].get(short(next(iter(r["laws"]))))
+        pairs = [f"{a}/{b} under {law}" for law, errors in r["rankings"].items() if errors is not coupled
+                 for a, b in swapped(coupled, errors)[0]]
+        if pairs:
+            out[role] = pairs
+    return out
 
 
 def sig(x):
@@ -279,31 +314,21 @@ def number(x):
     return str(x) if isinstance(x, int) else repr(float(x))
 
 
-def write(everything, exp, missing, tables):
+def difference_table(everything):
+    """The pairs of laws and the models' spread, per scenario and quantity: (Markdown, CSV rows)."""
     pairs = []
     for r in everything.values():
         pairs += [w for v in r["values"].values() for w in v if " vs " in w and w not in pairs]
-    rows, bead_rows, long_rows = [], [], []
+    rows, csv_rows = [], []
     for role, r in everything.items():
         for quantity, v in r["values"].items():
             below = v["models below the law gap"]
             rows.append([role, short(next(iter(r["laws"]))), quantity, r["norms"][quantity]]
                         + [sig(v.get(p)) for p in pairs + list(SPREAD)]
                         + ["n/a" if below != below else f"{below} of {v['models n']}"])
-            long_rows += [[role, quantity, what, number(x), r["norms"][quantity]] for what, x in v.items()
-                          if what != "models below"]
-        if r["beads"]:
-            b = r["beads"]
-            bead_rows.append([role] + [sig(b.get(short(law))) for law in SHORT_NAMES] + [sig(b[w]) for w in SPREAD])
-            long_rows += [[role, BEADS, what, number(x), "mm"] for what, x in b.items()]
-    os.makedirs(tables, exist_ok=True)
-    with open(os.path.join(tables, "law_sensitivity.csv"), "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(["role", "quantity", "compared", "value", "normalised by"])
-        w.writerows(long_rows)
-    all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.by_role(role).items()}
-    md = ["# The law's own uncertainty on every suite scenario", "", summary(everything), "",
-          markdown_table(["role", "reference law", "quantity", "normalised by"] + pairs
+            csv_rows += [[role, quantity, what, number(x), r["norms"][quantity]] for what, x in v.items()
+                         if what != "models below"]
+    md = [markdown_table(["role", "reference law", "quantity", "normalised by"] + pairs
                          + list(SPREAD) + ["models below the law gap"], rows), "",
           "Each pair: the difference between the answers of two laws on the same mesh, load and solver (Newton; "
           "the linear law: the linear FEM), ||a - b|| / ||ref|| over the observed surface vertices (the Euclidean "
@@ -314,19 +339,82 @@ def write(everything, exp, missing, tables):
           "smaller than the largest difference between two nonlinear laws in that scenario. The palpation's "
           "reference is the linear FEM's active-set contact (no nonlinear law takes a sphere yet): no law "
           "difference is measured there."]
-    if bead_rows:
-        md += ["", markdown_table(["role"] + [f"bead RMS, {short(law)} (mm)" for law in SHORT_NAMES]
-                                  + [f"{w} (mm)" for w in SPREAD], bead_rows), "",
-               "The Truth Cube: RMS over the CT-tracked beads of the distance between each law's (and each "
-               "ranked model's) predicted and measured positions (analysis/truth_cube.py); the table itself "
-               "resolves about 0.3 mm (docs/truth_cube.md)."]
+    return md, csv_rows
+
+
+def bead_table(everything):
+    """Each law's and the models' bead RMS on the Truth Cube: (Markdown, CSV rows); none elsewhere."""
+    rows, csv_rows = [], []
+    for role, r in everything.items():
+        b = r["beads"]
+        if b:
+            rows.append([role] + [sig(b.get(short(law))) for law in SHORT_NAMES] + [sig(b[w]) for w in SPREAD])
+            csv_rows += [[role, BEADS, what, number(x), "mm"] for what, x in b.items()]
+    if not rows:
+        return [], []
+    return ["", markdown_table(["role"] + [f"bead RMS, {short(law)} (mm)" for law in SHORT_NAMES]
+                               + [f"{w} (mm)" for w in SPREAD], rows), "",
+            "The Truth Cube: RMS over the CT-tracked beads of the distance between each law's (and each ranked "
+            "model's) predicted and measured positions (analysis/truth_cube.py); the table itself resolves about "
+            "0.3 mm (docs/truth_cube.md)."], csv_rows
+
+
+def order_table(everything):
+    """The ranking with each other nonlinear law's answer as the reference: (Markdown, CSV rows)."""
+    rows, csv_rows = [], []
+    for role, r in everything.items():
+        ref_law = short(next(iter(r["laws"])))
+        for law, errors in r["rankings"].items():
+            if law == ref_law:
+                continue
+            under_ref = r["rankings"][ref_law]
+            pairs, total = swapped(under_ref, errors)
+            rows.append([role, law, f"{len(pairs)} of {total}",
+                         "; ".join(f"{b} {errors[b]:.4g} < {a} {errors[a]:.4g} ({ref_law}: {a} {under_ref[a]:.4g} "
+                                   f"< {b} {under_ref[b]:.4g})" for a, b in pairs) or "none"])
+            csv_rows += [[role, f"surface field, {law} as the reference", m, number(x), r["norms"]["surface field"]]
+                         for m, x in errors.items()]
+    if not rows:
+        return [], []
+    return ["", markdown_table(["role", "law as the reference", "pairs of ranked models in another order",
+                                "which (their errors under that law; under the reference's)"], rows), "",
+            "The ranking with another law's answer as the reference: each ranked model's surface error against that "
+            "law's case (relative to the reference's ||u_ref||, as above); a pair counts when the two models' order "
+            "differs from their order under the reference's law (errors equal to 1e-9 are a tie)."], csv_rows
+
+
+def write(everything, exp, missing, tables):
+    differences, csv_rows = difference_table(everything)
+    md = ["# The law's own uncertainty on every suite scenario", "", summary(everything), ""] + differences
+    for table in (bead_table, order_table):
+        text, rows = table(everything)
+        md += text
+        csv_rows += rows
     if missing:
         md += ["", "Not measured (no reference results): " + ", ".join(missing) + "."]
-    md += ["", machine_note(all_cases, "threads as each case's parameters say") + " Law cases: "
+    all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.by_role(role).items()}
+    md += ["", provenance(all_cases) + " Law cases: "
            + "; ".join(f"{role}: " + ", ".join(f"{short(law)} {name}" for law, name in r["laws"].items())
                        for role, r in everything.items()) + "."]
+    os.makedirs(tables, exist_ok=True)
     with open(os.path.join(tables, "law_sensitivity.md"), "w") as f:
         f.write("\n".join(md) + "\n")
+    with open(os.path.join(tables, "law_sensitivity.csv"), "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["role", "quantity", "compared", "value", "normalised by"])
+        w.writerows(csv_rows)
+
+
+def provenance(cases):
+    """Machine, build and commit of the cases ({role/case: case}, table_io.machine_note); when
+    they differ (law cases run alone, --with), each with the cases it ran."""
+    groups = {}
+    for key, case in cases.items():
+        note = machine_note({key: case}, "threads as each case's parameters say")
+        groups.setdefault(note, []).append(key.split("/", 1)[1])
+    if len(groups) == 1:
+        return next(iter(groups))
+    return " ".join(f"{note[:-1]} ({', '.join(dict.fromkeys(names))})." for note, names in groups.items())
 
 
 def main():

@@ -1,6 +1,7 @@
 """analysis/law_sensitivity.py on a small results tree (test_leaderboard.py's cases):
 the difference between each pair of laws on the surface, the probes, the tool force
-and the Truth Cube's beads, beside the ranked models' spread; the law references
+and the Truth Cube's beads, beside the ranked models' spread; the ranking under each
+law's answer; the law references
 never ranked by the leaderboard; law cases run alone scored beside the others
 (--with); a law reference whose report names no law, or a case without its surface,
 is a one-line error."""
@@ -139,11 +140,22 @@ class LawSensitivity(unittest.TestCase):
             self.assertIn("| truth_cube_5 | 0 | 0.05 | 0.03 | 0.2 | 0.01 | 0.105 | 0.2 |", md)
             self.assertIn("from 0.08 (cube_pull_disc) to 0.08 (cube_pull_disc) of ||u_ref||", md)
             self.assertIn("Ranked models below the gap (surface field): cube_pull_disc (vbd, mymodel);", md)
+            # With the isochoric answer (1.05) as the reference, mymodel (1.02) is nearer than vbd (0.99).
+            self.assertIn("| cube_pull_disc | isochoric | 1 of 6 | mymodel 0.03 < vbd 0.06 (coupled: vbd 0.01 < "
+                          "mymodel 0.02) |", md)
+            self.assertIn("| cube_pull_disc | stable | 0 of 6 | none |", md)
+            self.assertIn("change order in cube_pull_disc (vbd/mymodel under isochoric);", md)
             with open(os.path.join(tmp, "tables", "law_sensitivity.csv")) as f:
                 rows = list(csv.reader(f))
             force = {r[2]: r[3] for r in rows if r[:2] == ["torus_grasp", "tool force"]}
             self.assertAlmostEqual(float(force["coupled vs isochoric"]), 0.05)
             self.assertEqual(force["models n"], "4")
+
+    def test_equal_errors_are_a_tie_not_a_swap(self):
+        errors = {"fem-linear": 0.1, "condensed": 0.1 + 1e-12, "vbd": 0.2}
+        other = {"fem-linear": 0.1 + 1e-12, "condensed": 0.1, "vbd": 0.05}
+        self.assertEqual(law_sensitivity.swapped(errors, other),
+                         ([("fem-linear", "vbd"), ("condensed", "vbd")], 3))
 
     def test_the_leaderboard_ranks_no_law_reference(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -161,7 +173,15 @@ class LawSensitivity(unittest.TestCase):
             committed = write_suite(os.path.join(tmp, "committed"), laws=False)
             alone = os.path.join(tmp, "alone", "suite")
             write_index(alone, [("pull", "cube_pull_disc", write_scenario(alone, "pull", LAWS))])
+            path = os.path.join(alone, "pull", "reference-isochoric", "run.json")
+            with open(path) as f:
+                run = json.load(f)
+            run["build"] = dict(run["build"], git_commit="def")  # built later than the others
+            with open(path, "w") as f:
+                json.dump(run, f)
             out = law_sensitivity.make(committed, tmp, write_bead_table(tmp), with_results=alone)
+            with open(os.path.join(tmp, "tables", "law_sensitivity.md")) as f:
+                self.assertIn("commit def; threads as each case's parameters say (reference-isochoric).", f.read())
             field = out["cube_pull_disc"]["values"]["surface field"]
             self.assertAlmostEqual(field["isochoric vs linear"], 0.25)  # the committed fem-linear
             self.assertEqual(field["models n"], 4)
