@@ -297,8 +297,8 @@ def make(results, out, data_flag, figures=True, with_results=None):
         scores = []
         for name in exp.scenario(scenario):
             s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None)
-            # The transient reference is a reference too: scored, never ranked.
-            s["is_reference"] = name in (ref_name, exp.transient_reference)
+            # The transient and the law references are references too: scored, never ranked.
+            s["is_reference"] = exp.is_reference(name)
             scores.append(s)
         everything[role] = scores
         for s in scores:

@@ -72,6 +72,9 @@ class Experiment:
         self.description = index.get("description", "")
         self.reference = index.get("reference") or None
         self.transient_reference = index.get("transient_reference") or None
+        # Cases that solve the reference's problem under another material law (the suite's
+        # reference-isochoric, reference-stable): references too, never ranked.
+        self.law_references = list(index.get("law_references", []))
         order = {s["name"]: s["cases"] for s in index.get("scenarios", [])}
         self.listed_cases = order  # {scenario: [cases]} as the experiment lists them, failed ones included
         self.listed_points = index.get("scenarios", [])  # experiment.json's entries (name, role, cases, sweep)
@@ -90,6 +93,11 @@ class Experiment:
             listed = [c for c in order.get(scenario, []) if c in found]
             ordered = listed + sorted(found - set(listed))  # cases the index does not list come last
             self.scenarios[scenario] = {c: load_case(os.path.join(sdir, c)) for c in ordered}
+
+    def is_reference(self, case):
+        """Whether a case is one of the experiment's references (the reference, the
+        transient reference, a law reference): scored, never ranked as a model."""
+        return case in (self.reference, self.transient_reference) or case in self.law_references
 
     def failure(self, scenario, case):
         """The runner's message for a case that failed (<scenario>/<case>.failed.json), or None."""

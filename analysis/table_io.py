@@ -40,12 +40,17 @@ def write_table(out_dir, name, header, rows, notes=""):
     w.writerows(rows)
     with open(os.path.join(out_dir, name + ".csv"), "w") as f:
         f.write(buf.getvalue())
-    md = "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |\n|" + "---|" * len(header) + "\n"
-    md += "".join("| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |\n" for r in rows)
+    md = markdown_table(header, rows) + "\n"
     if notes:
         md += "\n" + notes.strip() + "\n"
     with open(os.path.join(out_dir, name + ".md"), "w") as f:
         f.write(md)
+
+
+def markdown_table(header, rows):
+    """A Markdown table (no trailing newline); '|' in a cell is escaped."""
+    md = "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |\n|" + "---|" * len(header)
+    return md + "".join("\n| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |" for r in rows)
 
 
 def machine_note(cases, threads="one thread"):

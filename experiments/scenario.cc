@@ -26,6 +26,7 @@ nlohmann::json Experiment::to_json() const {
   j["description"] = description;
   j["reference"] = reference;
   if (!transient_reference.empty()) j["transient_reference"] = transient_reference;
+  if (!law_references.empty()) j["law_references"] = law_references;
   if (!overrides.empty()) j["overrides"] = overrides;
   j["scenarios"] = nlohmann::json::array();
   for (const Scenario& s : scenarios) {
@@ -491,6 +492,21 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
     e.description = o.text("description", "");
     e.reference = o.text("reference", "");
     e.transient_reference = o.text("transient_reference", "");
+    const nlohmann::json& law_references = o.raw("law_references");
+    if (!law_references.is_null()) {
+      if (!law_references.is_array() || law_references.empty())
+        o.fail("law_references", "must be a non-empty array of case names");
+      for (const nlohmann::json& name : law_references) {
+        if (!name.is_string() || name.get<std::string>().empty())
+          o.fail("law_references", "entries must be case names (non-empty strings)");
+        const std::string case_name = name.get<std::string>();
+        if (case_name == e.reference || case_name == e.transient_reference)
+          o.fail("law_references", "'" + case_name + "' is the experiment's reference or transient_reference");
+        if (std::find(e.law_references.begin(), e.law_references.end(), case_name) != e.law_references.end())
+          o.fail("law_references", "'" + case_name + "' is listed twice");
+        e.law_references.push_back(case_name);
+      }
+    }
     const nlohmann::json& list = o.raw("scenarios");
     if (!list.is_array() || list.empty())
       o.fail("scenarios",
@@ -570,6 +586,12 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
       for (size_t k = 0; k < i; ++k)
         if (e.scenarios[i].name == e.scenarios[k].name)
           o.fail("scenarios", "two scenarios are named '" + e.scenarios[i].name + "'");
+    for (const std::string& law_reference : e.law_references) {
+      bool found = false;
+      for (const Scenario& s : e.scenarios)
+        for (const ModelRun& run : s.models) found = found || run.case_name == law_reference;
+      if (!found) o.fail("law_references", "no scenario has a case named '" + law_reference + "'");
+    }
     if (skip_unsupported)
       for (Scenario& s : e.scenarios) leave_out_unsupported(s, e.reference, where);
   } else {

@@ -109,6 +109,10 @@ struct Experiment {
   /// The case a dynamic case's first frames are compared with (the implicit-Euler
   /// fem_dynamic, docs/suite.md), in the scenarios that have it; empty: none.
   std::string transient_reference;
+  /// Cases that solve the reference's problem under another material law
+  /// (analysis/law_sensitivity.py compares them; the leaderboard never ranks them),
+  /// in the scenarios that have them; empty: none.
+  std::vector<std::string> law_references;
   std::vector<Scenario> scenarios;
   /// Values set in every scenario by `tissuebench run --set KEY=VALUE`, in order
   /// ([[key, value], ...]); recorded in experiment.json.

@@ -100,6 +100,9 @@ class Tables(unittest.TestCase):
             failed = [r for r in neo if "failed" in r]
             self.assertEqual(len(failed), 1)
             self.assertIn("Newton failed", failed[0]["failed"])
+            # Linear (1.75) against neo-Hookean (1.1): divided by the neo-Hookean field, as the docs say.
+            l0_disc = next(r for r in neo if r["level"] == 0 and r["load"] == "disc")
+            self.assertAlmostEqual(l0_disc["difference"], 0.65 / 1.1, places=12)
             hybrid_l0 = [r for r in t1 if r["model"] == "hybrid" and r["reference"] == "P1 L0" and r["direction"] == "pull"]
             self.assertAlmostEqual(hybrid_l0[0]["rel_l2"], 1 - 0.5 / 1.75, places=12)
             for name in ("reference_convergence", "reference_convergence_cost", "reference_convergence_neo_hookean",

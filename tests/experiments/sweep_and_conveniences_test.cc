@@ -150,6 +150,31 @@ TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSays
   expect_error_in(experiment, "suite.json", "unsupported_cases");
 }
 
+// An experiment's law_references: the reference under other material laws, recorded
+// in experiment.json for the analysis (never ranked); each must name a case of some
+// scenario, once, and be neither reference.
+TEST_F(Scenarios, LawReferencesAreRecordedAndMustNameCasesOnce) {
+  write("small.json", small_cube());
+  nlohmann::json experiment = {{"name", "suite"},
+                               {"reference", "fem-direct"},
+                               {"law_references", {"pbd"}},
+                               {"scenarios", {"small.json"}}};
+  EXPECT_EQ(load_experiment(write("suite.json", experiment)).to_json()["law_references"],
+            nlohmann::json::array({"pbd"}));
+  experiment.erase("law_references");
+  EXPECT_FALSE(load_experiment(write("suite.json", experiment)).to_json().contains("law_references"));
+  for (const auto& [value, message] : std::vector<std::pair<nlohmann::json, std::string>>{
+           {nlohmann::json::array(), "must be a non-empty array"},
+           {"pbd", "must be a non-empty array"},
+           {{1}, "entries must be case names"},
+           {{"pbd", "pbd"}, "'pbd' is listed twice"},
+           {{"fem-direct"}, "'fem-direct' is the experiment's reference"},
+           {{"ghost"}, "no scenario has a case named 'ghost'"}}) {
+    experiment["law_references"] = value;
+    expect_error_in(experiment, "suite.json", "law_references: " + message);
+  }
+}
+
 // tissuebench run SUITE --model NAME, NAME a registered model no case runs: a case of
 // it (its defaults) joins every scenario that takes it.
 TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
