@@ -40,15 +40,9 @@ class VbdSolve : public TetTimeStepper<Law> {
       throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
     const Eigen::Index n = x_.cols();
     // Tets around each vertex, with the vertex's place in the tet (CSR).
-    offset_.assign(static_cast<size_t>(n) + 1, 0);
-    for (Eigen::Index t = 0; t < T_.rows(); ++t)
-      for (int a = 0; a < 4; ++a) ++offset_[static_cast<size_t>(T_(t, a)) + 1];
-    for (size_t v = 0; v < static_cast<size_t>(n); ++v) offset_[v + 1] += offset_[v];
-    around_.resize(static_cast<size_t>(offset_.back()));
-    std::vector<int> fill(offset_.begin(), offset_.end() - 1);
-    for (Eigen::Index t = 0; t < T_.rows(); ++t)
-      for (int a = 0; a < 4; ++a)
-        around_[static_cast<size_t>(fill[static_cast<size_t>(T_(t, a))]++)] = {static_cast<int>(t), a};
+    VertexTets around = vertex_tets(T_, static_cast<int>(n));
+    offset_ = std::move(around.offset);
+    around_ = std::move(around.around);
     std::vector<int> moving;
     for (Eigen::Index v = 0; v < n; ++v)
       if (free_.col(v).sum() > 0) moving.push_back(static_cast<int>(v));
