@@ -39,7 +39,9 @@ PdSettings settled(PdMode mode, const std::string& law) {
 
 std::vector<Case> cases() {
   return {{"quasi_newton_neo_hookean", settled(PdMode::QuasiNewton, "neo_hookean")},
-          {"quasi_newton_stable_neo_hookean", settled(PdMode::QuasiNewton, "stable_neo_hookean")}};
+          {"quasi_newton_stable_neo_hookean", settled(PdMode::QuasiNewton, "stable_neo_hookean")},
+          {"quasi_newton_arap_volume", settled(PdMode::QuasiNewton, "arap_volume")},
+          {"local_global_arap_volume", settled(PdMode::LocalGlobal, "arap_volume")}};
 }
 
 class SettledPd : public ::testing::TestWithParam<Case> {};
