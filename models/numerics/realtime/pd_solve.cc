@@ -65,6 +65,15 @@ class PdSolve : public TetTimeStepper<Law> {
     t_pairs_.assign(static_cast<size_t>(o_.history), Eigen::Matrix3Xd::Zero(3, n));
     rho_.assign(static_cast<size_t>(o_.history), 0);
     alpha_.assign(static_cast<size_t>(o_.history), 0);
+    // The rounding floor of grad E: a stress of order w |F| (|F| = sqrt 3 at rest)
+    // computed to a few 1e-16, times each node's sum of V_t |g_t,a|; 1e-14 stays
+    // about tenfold above it (at 1e-13 the small cube settled 1e-10 from Newton, at
+    // 1e-14 1e-11, at 1e-15 1e-12; with none, a body at rest drifted 8e-11 m in 100 frames).
+    Eigen::VectorXd node_scale = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index t = 0; t < tets; ++t)
+      for (int a = 0; a < 4; ++a)
+        node_scale(T_(t, a)) += shapes_[static_cast<size_t>(t)].volume * shapes_[static_cast<size_t>(t)].gradients.col(a).norm();
+    gradient_floor_ = 1e-14 * weight_ * std::sqrt(3.0) * node_scale.norm();
   }
 
  protected:
@@ -105,8 +114,8 @@ class PdSolve : public TetTimeStepper<Law> {
   int last_iterations() const override { return done_; }
 
  private:
-  /// The frame's iterations from x_ (valid): until `iterations`, the tolerance, or a
-  /// line search that finds no decrease (E at its rounding floor).
+  /// The frame's iterations from x_ (valid): until `iterations`, the tolerance, the
+  /// gradient's rounding floor, or a line search that finds no decrease.
   void iterate(double h2) {
     const bool quasi_newton = o_.mode == PdMode::QuasiNewton;
     double energy = evaluate(x_, gradient_, h2, quasi_newton);
@@ -124,7 +133,7 @@ class PdSolve : public TetTimeStepper<Law> {
     for (; done_ < o_.iterations; ++done_) {
       const double g = norm(gradient_);
       reduction_ = first > 0 ? g / first : 0;
-      if (!(g > o_.tolerance * first)) break;
+      if (!(g > std::max(o_.tolerance * first, gradient_floor_))) break;
       descent_direction();
       double slope = dot(direction_, gradient_);
       if (quasi_newton && !(slope < 0)) {  // the history spoilt it: A^-1 alone is a descent direction
@@ -256,6 +265,7 @@ class PdSolve : public TetTimeStepper<Law> {
 
   PdSettings o_;
   double weight_;
+  double gradient_floor_ = 0;  ///< |grad E| at or below this is rounding: the frame stops there
   bool keep_positive_;
   std::unique_ptr<PdGlobalMatrix> global_;
   VertexTets around_;

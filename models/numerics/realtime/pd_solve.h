@@ -39,7 +39,9 @@
 //     parameter (`weight`): 2 mu (the shear stiffness), 2 mu + lambda (the
 //     P-wave modulus, the default) or 2 mu + 3 lambda (a dilatation's stiffness).
 // Both stop early when |grad E| over the free components falls below `tolerance`
-// times its value at the frame's first iterate.
+// times its value at the frame's first iterate, or below its rounding floor (1e-14
+// of w sqrt(3) times the nodes' sums of V_t |grad N|: else, at rest, L-BFGS pairs
+// made of rounding noise would move the body).
 //
 // The per-tet stress and energy (the local step) and the per-node gradient run on
 // the thread team (one class of all tets, then one of all nodes; each item writes

@@ -12,6 +12,7 @@
 #include <functional>
 
 #include "default_steppers.h"
+#include "pd_solve.h"
 #include "settled_cube.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
@@ -161,13 +162,15 @@ TEST(RealtimeSteppers, XpbdSteadyStateBiasShrinksAsTheSubstepSquared) {
 }
 
 // A body at rest under no load stays at rest: each tet's two constraints, projected
-// together, cancel their rest corrections (xpbd_tet_solve.cc); and VBD's gradient is 0.
+// together, cancel their rest corrections (xpbd_tet_solve.cc); and VBD's and PD's
+// gradient is 0.
 TEST(RealtimeSteppers, NoLoadLeavesTheBodyAtRest) {
   const SmallCube c;
   const ElasticBody body(c.mesh, kMaterial, c.clamped());
   const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
   const std::vector<Eigen::Vector3d> none = {Eigen::Vector3d::Zero()};
-  std::unique_ptr<ElasticSolve> solves[2] = {make_vbd_solve(body, {}), make_xpbd_tet_solve(body, {})};
+  std::unique_ptr<ElasticSolve> solves[3] = {make_vbd_solve(body, {}), make_xpbd_tet_solve(body, {}),
+                                              make_pd_solve(body, {})};
   for (auto& s : solves) {
     ElasticFrame frame(body, loads, *s);
     Eigen::VectorXd u;
@@ -176,23 +179,23 @@ TEST(RealtimeSteppers, NoLoadLeavesTheBodyAtRest) {
   }
 }
 
-// Colours are swept in parallel: the answer may not depend on the thread count.
+// Colours (PD: its tets, then its nodes) are swept in parallel: the answer may not
+// depend on the thread count.
 TEST(RealtimeSteppers, TwoThreadsGiveTheOneThreadAnswerBitwise) {
   const SmallCube c;
   const ElasticBody body(c.mesh, kMaterial, c.clamped());
   const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
   const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
-  for (int which = 0; which < 2; ++which) {
+  for (testing::RealtimeStepper which : testing::kRealtimeSteppers) {
     Eigen::VectorXd u[2];
     for (int threads : {1, 2}) {
       TimeStepping stepping;
       stepping.threads = threads;
-      const auto s = testing::make_default_stepper(
-          body, which == 0 ? testing::RealtimeStepper::Vbd : testing::RealtimeStepper::Xpbd, stepping);
+      const auto s = testing::make_default_stepper(body, which, stepping);
       ElasticFrame frame(body, loads, *s);
       for (int f = 0; f < 20; ++f) frame.step(force, {}, u[threads - 1]);
     }
-    EXPECT_EQ(u[0], u[1]) << (which == 0 ? "vbd" : "xpbd");
+    EXPECT_EQ(u[0], u[1]) << testing::name(which);
     EXPECT_GT(u[0].norm(), 0);
   }
 }
