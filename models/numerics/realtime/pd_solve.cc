@@ -6,8 +6,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lame_parameters.h"
-#include "material_law_visit.h"
 #include "pd_global_matrix.h"
 
 namespace tb {
@@ -286,16 +284,13 @@ class PdSolve : public TetTimeStepper<Law> {
 
 std::vector<ParameterSpec> pd_parameters() {
   using P = ParameterSpec;
-  std::vector<std::string> laws;
-  for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
   const PdSettings d;
   std::vector<ParameterSpec> specs = time_stepping_parameters(d.stepping.time_step);
   specs.push_back(P::choice("solve", {"local_global", "quasi_newton"}, mode_name(d.mode),
                             "local_global: Bouaziz et al. 2014's local projections and global solve (law arap_volume); "
                             "quasi_newton: L-BFGS with A^-1 as the initial inverse Hessian and a line search on the "
                             "incremental potential (Liu, Bouaziz and Kavan 2017), any law"));
-  specs.push_back(P::choice("material_law", laws, d.law,
-                            "the material law (numerics/materials), with the Lame parameters of the scenario's E and nu"));
+  specs.push_back(material_law_parameter(d.law));
   specs.push_back(P::whole_number("iterations", d.iterations, 1, 100000,
                                   "global solves per frame, at most (each after its local step)"));
   specs.push_back(P::whole_number("history", d.history, 0, 100, "L-BFGS pairs kept (quasi_newton; 0: A^-1 alone)"));
@@ -327,13 +322,8 @@ std::unique_ptr<ElasticSolve> make_pd_solve(const ElasticBody& body, const PdSet
   if (settings.mode == PdMode::LocalGlobal && settings.law != "arap_volume")
     throw std::invalid_argument("pd: solve local_global minimises the arap_volume law only (its energy is PD's), not " +
                                 settings.law + "; set material_law arap_volume, or solve quasi_newton");
-  const LameParameters lame = lame_parameters(body.material());
   const PdWeight weight = settings.mode == PdMode::LocalGlobal ? PdWeight::Volume : settings.weight;
-  const bool defined = find_material_law(settings.law).defined_when_inverted;
-  return visit_material_law(settings.law, lame, [&](const auto& law) -> std::unique_ptr<ElasticSolve> {
-    using Law = std::decay_t<decltype(law)>;
-    return std::make_unique<PdSolve<Law>>(body, law, settings, weight_value(weight, lame), defined);
-  });
+  return make_for_law<PdSolve>(settings.law, body, settings, weight_value(weight, lame_parameters(body.material())));
 }
 
 }  // namespace tb

@@ -23,6 +23,8 @@
 
 #include "colouring.h"
 #include "elastic_solve.h"
+#include "lame_parameters.h"
+#include "material_law_visit.h"
 #include "tet_element.h"
 #include "thread_team.h"
 
@@ -37,6 +39,19 @@ struct TimeStepping {
 /// The parameters time_step and threads, for the models built on these steppers.
 std::vector<ParameterSpec> time_stepping_parameters(double default_time_step);
 TimeStepping time_stepping(const Parameters& p);
+/// The parameter material_law: any law of the table, `default_law` unless given.
+ParameterSpec material_law_parameter(const std::string& default_law);
+
+/// Stepper<Law>(body, law, args..., defined_when_inverted) for the law of the table
+/// called `law` with the Lame parameters of the body's material: a stepper whose
+/// inner loop evaluates the law inlined (material_law_visit.h).
+template <template <class> class Stepper, class... Args>
+std::unique_ptr<ElasticSolve> make_for_law(const std::string& law, const ElasticBody& body, const Args&... args) {
+  const bool defined = find_material_law(law).defined_when_inverted;
+  return visit_material_law(law, lame_parameters(body.material()), [&](const auto& l) -> std::unique_ptr<ElasticSolve> {
+    return std::make_unique<Stepper<std::decay_t<decltype(l)>>>(body, l, args..., defined);
+  });
+}
 
 template <class Law>
 class TetTimeStepper : public ElasticSolve {

@@ -5,8 +5,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lame_parameters.h"
-#include "material_law_visit.h"
 
 namespace tb {
 namespace {
@@ -266,12 +264,9 @@ class VbdSolve : public TetTimeStepper<Law> {
 
 std::vector<ParameterSpec> vbd_parameters() {
   using P = ParameterSpec;
-  std::vector<std::string> laws;
-  for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
   const VbdSettings d;
   std::vector<ParameterSpec> specs = time_stepping_parameters(d.stepping.time_step);
-  specs.push_back(P::choice("material_law", laws, d.law,
-                            "the material law (numerics/materials), with the Lame parameters of the scenario's E and nu"));
+  specs.push_back(material_law_parameter(d.law));
   specs.push_back(P::whole_number("iterations", d.iterations, 1, 100000, "sweeps over every vertex colour per frame"));
   specs.push_back(P::number("chebyshev_rho", d.chebyshev_rho, 0, 0.9999,
                             "> 0: Chebyshev acceleration with this spectral radius estimate (0: off)"));
@@ -293,12 +288,7 @@ VbdSettings vbd_settings(const Parameters& p) {
 }
 
 std::unique_ptr<ElasticSolve> make_vbd_solve(const ElasticBody& body, const VbdSettings& settings) {
-  const bool defined = find_material_law(settings.law).defined_when_inverted;
-  return visit_material_law(settings.law, lame_parameters(body.material()),
-                            [&](const auto& law) -> std::unique_ptr<ElasticSolve> {
-                              using Law = std::decay_t<decltype(law)>;
-                              return std::make_unique<VbdSolve<Law>>(body, law, settings, defined);
-                            });
+  return make_for_law<VbdSolve>(settings.law, body, settings);
 }
 
 }  // namespace tb

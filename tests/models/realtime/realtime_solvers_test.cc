@@ -28,19 +28,8 @@ using testing::kMaterial;
 using testing::newton_answer;
 using testing::settle;
 using testing::SmallCube;
-using MakeStepper = std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&)>;
-
-struct Stepper {
-  std::string name, law;
-  MakeStepper make;
-  int max_frames;
-  /// Relative to Newton's answer, field and reactions. VBD's fixed point is the
-  /// law's equilibrium: 1e-6. XPBD's is not: lambda restarts each sub-step, and the
-  /// first-order update leaves a bias of order h^2 (XpbdSteadyStateBiasShrinksAsTheSubstepSquared);
-  /// at the 40 sub-steps of 10 ms used here, measured 1.19e-3 (pull) and 1.52e-3
-  /// (push): its tolerance is 3e-3, twice that.
-  double tolerance;
-};
+using testing::SettledStepper;
+using testing::Stepper;
 
 std::vector<Stepper> steppers() {
   VbdSettings vbd;
@@ -60,8 +49,6 @@ std::vector<Stepper> steppers() {
            [vbd_chebyshev](const ElasticBody& b) { return make_vbd_solve(b, vbd_chebyshev); }, 2000, 1e-6},
           {"xpbd_neo", "xpbd_neo_hookean", [xpbd](const ElasticBody& b) { return make_xpbd_tet_solve(b, xpbd); }, 4000, 3e-3}};
 }
-
-class SettledStepper : public ::testing::TestWithParam<Stepper> {};
 
 // A point force at the top centre, up then down: 0.2 N moves it about 17 % of the
 // cube's height (pull) and inverts nothing under Newton (push).
@@ -107,6 +94,8 @@ TEST_P(SettledStepper, EqualsTheStaticNewtonAnswerUnderAPlate) {
   EXPECT_LT((u - expected).norm() / expected.norm(), s.tolerance) << s.name;
   EXPECT_LT((frame.group_forces()[0] - expected_force[0]).norm(), s.tolerance * expected_force[0].norm()) << s.name;
   EXPECT_LT(expected_force[0].z(), 0);  // the tissue pulls the plate down
+  RecordProperty(s.name + "_plate_frames", frames);
+  RecordProperty(s.name + "_plate_relative_error", ::testing::PrintToString((u - expected).norm() / expected.norm()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Steppers, SettledStepper, ::testing::ValuesIn(steppers()),
