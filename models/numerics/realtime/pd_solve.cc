@@ -167,6 +167,7 @@ class PdSolve : public TetTimeStepper<Law> {
   /// s0 and s1 the slopes along d at x and at the trial point.
   bool sufficient_decrease(double energy, double trial_energy, double step, double slope) const {
     constexpr double c = 1e-4;
+    if (!std::isfinite(trial_energy)) return false;  // a tet not positive under a law undefined there
     if (trial_energy <= energy + c * step * slope) return true;
     const double noise = 1e-13 * std::max(std::abs(energy), std::abs(trial_energy));
     if (!(std::abs(trial_energy - energy) <= noise)) return false;
