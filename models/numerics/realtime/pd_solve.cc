@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 #include "pd_global_matrix.h"
@@ -106,24 +105,37 @@ class PdSolve : public TetTimeStepper<Law> {
             {"iterations_last_frame", done_},
             {"gradient_reduction_last_frame", reduction_},
             {"line_search_halvings", halvings_},
-            {"line_search_failures", failures_}};
+            {"line_search_failures", failures_},
+            {"stages_last_frame", stages_}};
   }
 
   int last_iterations() const override { return done_; }
 
  private:
-  /// The frame's iterations from x_ (valid): until `iterations`, the tolerance, the
-  /// gradient's rounding floor, or a line search that finds no decrease.
+  /// The frame's iterations (per stage where the tools move in stages: each relax()
+  /// until `iterations`, the tolerance, the gradient's rounding floor, or a line
+  /// search that finds no decrease).
   void iterate(double h2) {
     const bool quasi_newton = o_.mode == PdMode::QuasiNewton;
+    stages_ = 1;
     double energy = evaluate(x_, gradient_, h2, quasi_newton);
     if (energy == std::numeric_limits<double>::infinity()) {  // x_n + h v_n inverts a tet: from x_n
       for (Eigen::Index v = 0; v < x_.cols(); ++v)
         for (int i = 0; i < 3; ++i)
           if (free_(i, v) != 0) x_(i, v) = x_n_(i, v);
       energy = evaluate(x_, gradient_, h2, quasi_newton);
-      if (energy == std::numeric_limits<double>::infinity()) throw_inverted_start();
+      if (energy == std::numeric_limits<double>::infinity()) {  // the tools' move itself: in stages
+        stages_ = 0;
+        this->move_held_in_stages([&] { relax(h2, evaluate(x_, gradient_, h2, quasi_newton)); }, o_.law, stages_);
+        return;
+      }
     }
+    relax(h2, energy);
+  }
+
+  /// The iterations from a valid x_ whose E and gradient_ are computed.
+  void relax(double h2, double energy) {
+    const bool quasi_newton = o_.mode == PdMode::QuasiNewton;
     const double first = norm(gradient_);
     pairs_ = 0;
     done_ = 0;
@@ -172,18 +184,6 @@ class PdSolve : public TetTimeStepper<Law> {
     const double noise = 1e-13 * std::max(std::abs(energy), std::abs(trial_energy));
     if (!(std::abs(trial_energy - energy) <= noise)) return false;
     return dot(direction_, trial_gradient_) <= (2 * c - 1) * slope;
-  }
-
-  /// The tools' positions this frame invert a tet whatever the free nodes do (a
-  /// node held beside it moved through it): one line naming it and the law.
-  [[noreturn]] void throw_inverted_start() const {
-    Eigen::Index t = -1;
-    double J = 0;
-    this->all_positive(x_, &t, &J);
-    std::ostringstream msg;
-    msg << "pd: this frame's tool positions invert tet " << t << " (det F = " << J << ") beside a held node, where the "
-        << o_.law << " law is undefined; ramp the tool over more frames or use a law defined there (stable_neo_hookean)";
-    throw std::runtime_error(msg.str());
   }
 
   /// direction_ = -H grad E, H the L-BFGS inverse Hessian over the stored pairs with
@@ -277,6 +277,7 @@ class PdSolve : public TetTimeStepper<Law> {
   std::vector<double> rho_, alpha_;
   int pairs_ = 0, newest_ = -1;
   int done_ = 0;
+  int stages_ = 1;  ///< the frame's relaxations (more than one where the tools moved in stages)
   double reduction_ = 1;
   long halvings_ = 0, failures_ = 0;
 };

@@ -35,7 +35,9 @@
 //     Wright 2006, Algorithm 7.4) with A^-1 as the initial inverse Hessian and `history` pairs,
 //     a backtracking line search on E (Armijo, c = 1e-4, halving); any law of the
 //     table; for a law undefined at det F <= 0 (neo_hookean) E is +infinity there,
-//     so every accepted iterate keeps every tet positive. A's weight w is a
+//     so every accepted iterate keeps every tet positive; where the tools' move
+//     alone would invert a tet, the held nodes advance in stages, each relaxed
+//     (TetTimeStepper::move_held_in_stages, as VBD). A's weight w is a
 //     parameter (`weight`): 2 mu (the shear stiffness), 2 mu + lambda (the
 //     P-wave modulus, the default) or 2 mu + 3 lambda (a dilatation's stiffness).
 // Both stop early when |grad E| over the free components falls below `tolerance`
@@ -85,7 +87,7 @@ PdSettings pd_settings(const Parameters& p);
 /// A PD solve on `body` (which outlives it). Throws std::invalid_argument, "pd: "
 /// and the parameter, for an unusable setting (local_global with a law other than
 /// arap_volume); its solve() throws std::runtime_error when the tools' positions
-/// leave a tet the law cannot take.
+/// leave a tet the law cannot take even in 64 stages.
 std::unique_ptr<ElasticSolve> make_pd_solve(const ElasticBody& body, const PdSettings& settings);
 
 }  // namespace tb

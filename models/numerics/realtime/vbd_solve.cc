@@ -85,7 +85,7 @@ class VbdSolve : public TetTimeStepper<Law> {
       sweeps(h2);
       stages_ = 1;
     } else {
-      move_held_in_stages(h2);
+      this->move_held_in_stages([&] { sweeps(h2); }, o_.law, stages_);  // a frame costs its sweeps once per stage
     }
     for (Eigen::Index v = 0; v < n; ++v)
       for (int i = 0; i < 3; ++i)
@@ -118,42 +118,6 @@ class VbdSolve : public TetTimeStepper<Law> {
     for (int k = 1; k <= o_.iterations; ++k) {
       this->sweep(colours_, update);
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
-    }
-  }
-
-  /// Where the tools' move this frame would invert a tet beside a held node (a
-  /// grasp lifted by more than the cells around it are tall), under a law
-  /// undefined there: the held components advance by the largest fraction of
-  /// what is left that keeps every tet positive (halved until it does), `iterations`
-  /// sweeps relax the body after each stage, until they reach the tools' positions.
-  /// A frame then costs its sweeps once per stage (report: stages_last_frame).
-  void move_held_in_stages(double h2) {
-    const Eigen::Index n = x_.cols();
-    auto hold_at = [&](double fraction) {
-      for (Eigen::Index v = 0; v < n; ++v)
-        for (int i = 0; i < 3; ++i)
-          if (free_(i, v) == 0) x_(i, v) = x_n_(i, v) + fraction * (this->target_(i, v) - x_n_(i, v));
-    };
-    double reached = 0;
-    while (reached < 1) {
-      double step = 1 - reached;
-      hold_at(reached + step);
-      Eigen::Index t = -1;
-      double J = 0;
-      while (!this->all_positive(x_, &t, &J)) {
-        step /= 2;
-        if (step < 1.0 / 4096 || stages_ >= 64) {
-          std::ostringstream msg;
-          msg << "vbd: this frame's tool positions invert tet " << t << " (det F = " << J
-              << ") beside a held node even in " << stages_ << " stages, where the " << o_.law
-              << " law is undefined; ramp the tool over more frames or use a law defined there (stable_neo_hookean)";
-          throw std::runtime_error(msg.str());
-        }
-        hold_at(reached + step);
-      }
-      reached = step >= 1 - reached ? 1 : reached + step;
-      sweeps(h2);
-      ++stages_;
     }
   }
 
