@@ -46,7 +46,8 @@ class FineFem : public Model {
         area_ = std::make_unique<ContactArea>(h.fine_surface);
       }
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(name_ + ": " + e.what());
+      const std::string what = e.what();
+      throw std::invalid_argument(what.rfind(name_ + ": ", 0) == 0 ? what : name_ + ": " + what);  // named once
     }
     reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Zero());
     contacts_.assign(p.load_case.tools.size(), ToolContact{});

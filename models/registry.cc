@@ -12,6 +12,7 @@
 #include "hybrid/hybrid_model.h"
 #include "model.h"
 #include "pbd/pbd_model.h"
+#include "pd/pd_model.h"
 #include "vbd/vbd_model.h"
 #include "xpbd_neo/xpbd_neo_model.h"
 
@@ -22,7 +23,7 @@ const std::vector<ModelInfo>& registered_models() {
     std::vector<ModelInfo> list = {
         fem_model_info(),       pbd_model_info(),      hybrid_model_info(),
         condensed_model_info(), embedded_model_info(), fem_distributed_model_info(), fem_dynamic_model_info(),
-        vbd_model_info(),       xpbd_neo_model_info(),
+        vbd_model_info(),       xpbd_neo_model_info(),   pd_model_info(),
     };
     validate_registry(list);
     return list;

@@ -18,6 +18,7 @@
 #include "mesh_recipe.h"
 #include "model.h"
 #include "pbd_solver.h"
+#include "pd_solve.h"
 #include "scenario.h"
 #include "thread_team.h"
 #include "vbd_solve.h"
@@ -416,8 +417,9 @@ void BM_ThreadTeamBarrier(benchmark::State& state) {
 
 /// A frame of a real-time nonlinear stepper on the paper cube's fine volume
 /// (refinement range(1): 1 the paper's ~17 800 tets, 6 about 100 000), the 1 N pull
-/// at the top centre: range(0) 0 VBD (neo_hookean) or 1 XPBD (xpbd_neo_hookean), on
-/// range(2) threads, range(3) sweeps (VBD) or sub-steps (XPBD) a frame; time_step
+/// at the top centre: range(0) 0 VBD (neo_hookean), 1 XPBD (xpbd_neo_hookean), 2 PD
+/// quasi_newton (neo_hookean) or 3 PD local_global (arap_volume), on range(2)
+/// threads, range(3) sweeps (VBD), sub-steps (XPBD) or iterations (PD, all run) a frame; time_step
 /// 0.01 s (XPBD with one sub-step: 0.001 s, the configuration whose settled error
 /// docs/realtime_nonlinear.md tables). Frames continue the same run (the
 /// transient). Wall time: the second thread works.
@@ -433,6 +435,16 @@ void BM_NonlinearStepperFrame(benchmark::State& state) {
     o.stepping.threads = threads;
     o.iterations = work;
     solve = make_vbd_solve(body, o);
+  } else if (state.range(0) >= 2) {  // pd: 2 quasi_newton (neo_hookean), 3 local_global (arap_volume)
+    PdSettings o;
+    o.stepping.threads = threads;
+    o.iterations = work;
+    o.tolerance = 0;  // every iteration runs: the cost of `work` of them
+    if (state.range(0) == 3) {
+      o.mode = PdMode::LocalGlobal;
+      o.law = "arap_volume";
+    }
+    solve = make_pd_solve(body, o);
   } else {
     XpbdTetSettings o;
     o.stepping.threads = threads;
@@ -501,6 +513,7 @@ BENCHMARK(BM_NonlinearStepperFrame)
     ->ArgNames({"xpbd", "refine", "threads", "work"})
     ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}})
     ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}})
+    ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);

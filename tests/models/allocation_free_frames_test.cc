@@ -81,6 +81,8 @@ std::vector<Case> every_model() {
   cases.push_back({"hybrid", {{"load_spread", "surface_triangle"}}});
   cases.push_back({"pbd", {{"constraint_solve", "xpbd"}, {"kernels", "reference"}, {"bending_angle", "signed"}}});
   cases.push_back({"hybrid", {{"constraint_solve", "xpbd"}, {"kernels", "reference"}, {"bending_angle", "signed"}}});
+  cases.push_back({"pd", {{"solve", "local_global"}, {"material_law", "arap_volume"}}});
+  cases.push_back({"pd", {{"threads", 2}, {"weight", "shear"}}});  // halvings in the line search
   for (const ModelInfo& m : registered_models())
     if (!reference_solve(m) && m.takes(LoadKind::SurfaceTraction) && m.takes(LoadKind::BodyForce))
       cases.push_back({m.name, nlohmann::json::object(), true});

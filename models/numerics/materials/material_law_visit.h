@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "arap_volume.h"
 #include "lame_parameters.h"
 #include "linear_elastic.h"
 #include "material_laws.h"
@@ -29,6 +30,7 @@ auto visit_material_law(const std::string& name, const LameParameters& lame, Vis
   if (name == "neo_hookean_isochoric") return visit(NeoHookeanIsochoric(lame));
   if (name == "stable_neo_hookean") return visit(StableNeoHookean(lame));
   if (name == "xpbd_neo_hookean") return visit(XpbdNeoHookean(lame));
+  if (name == "arap_volume") return visit(ArapVolume(lame));
   throw std::logic_error("visit_material_law: law '" + name + "' is in material_laws() but not here (material_law_visit.h)");
 }
 

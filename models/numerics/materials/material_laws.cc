@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "arap_volume.h"
 #include "linear_elastic.h"
 #include "neo_hookean.h"
 #include "neo_hookean_isochoric.h"
@@ -61,6 +62,11 @@ const std::vector<MaterialLawInfo>& material_laws() {
                             "W = mu'/2 (I1 - 3) + lambda'/2 (J - alpha)^2, mu' = mu, lambda' = lambda + mu, "
                             "alpha = 1 + mu'/lambda'; rest-stable, finite for J <= 0",
                             true),
+      entry<ArapVolume>("arap_volume",
+                        "as-rigid-as-possible with a volume term, the solid of Projective Dynamics (Bouaziz et al. "
+                        "2014): W = mu |F - R|^2 + 3 lambda/2 |F - Pi|^2, R the nearest rotation, Pi the nearest "
+                        "matrix of unit determinant; finite for J <= 0",
+                        true),
   };
   return laws;
 }

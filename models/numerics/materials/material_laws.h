@@ -3,7 +3,7 @@
 // tangent written once there) through the Lame parameters of the given (E, nu);
 // code that evaluates a law in an inner loop uses the law's struct directly
 // (LinearElastic, NeoHookean, NeoHookeanIsochoric, StableNeoHookean,
-// XpbdNeoHookean), or picks that struct by name with visit_material_law
+// XpbdNeoHookean, ArapVolume), or picks that struct by name with visit_material_law
 // (material_law_visit.h).
 #pragma once
 
@@ -31,7 +31,7 @@ struct MaterialLawInfo {
 };
 
 /// Every law, each once, in a fixed order: linear, neo_hookean,
-/// neo_hookean_isochoric, stable_neo_hookean, xpbd_neo_hookean.
+/// neo_hookean_isochoric, stable_neo_hookean, xpbd_neo_hookean, arap_volume.
 const std::vector<MaterialLawInfo>& material_laws();
 
 /// The law called name. Throws std::invalid_argument listing the known names.

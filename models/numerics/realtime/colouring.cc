@@ -19,16 +19,22 @@ void add_to(Colouring& classes, int colour, int item) {
 
 }  // namespace
 
+VertexTets vertex_tets(const Tetrahedra& T, int vertex_count) {
+  VertexTets r;
+  r.offset.assign(static_cast<size_t>(vertex_count) + 1, 0);
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
+    for (int a = 0; a < 4; ++a) ++r.offset[static_cast<size_t>(T(t, a)) + 1];
+  for (size_t v = 0; v < static_cast<size_t>(vertex_count); ++v) r.offset[v + 1] += r.offset[v];
+  r.around.resize(static_cast<size_t>(r.offset.back()));
+  std::vector<int> fill(r.offset.begin(), r.offset.end() - 1);
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
+    for (int a = 0; a < 4; ++a)
+      r.around[static_cast<size_t>(fill[static_cast<size_t>(T(t, a))]++)] = {static_cast<int>(t), a};
+  return r;
+}
+
 Colouring colour_vertices(const Tetrahedra& T, int vertex_count, const std::vector<int>& active) {
-  // Tets around each vertex (CSR).
-  std::vector<int> offset(static_cast<size_t>(vertex_count) + 1, 0), tets;
-  for (Eigen::Index t = 0; t < T.rows(); ++t)
-    for (int a = 0; a < 4; ++a) ++offset[static_cast<size_t>(T(t, a)) + 1];
-  for (size_t v = 0; v < static_cast<size_t>(vertex_count); ++v) offset[v + 1] += offset[v];
-  tets.resize(static_cast<size_t>(offset.back()));
-  std::vector<int> fill(offset.begin(), offset.end() - 1);
-  for (Eigen::Index t = 0; t < T.rows(); ++t)
-    for (int a = 0; a < 4; ++a) tets[static_cast<size_t>(fill[static_cast<size_t>(T(t, a))]++)] = static_cast<int>(t);
+  const VertexTets around = vertex_tets(T, vertex_count);
   std::vector<int> sorted = active;
   std::sort(sorted.begin(), sorted.end());
   std::vector<int> colour(static_cast<size_t>(vertex_count), -1), used;
@@ -36,9 +42,9 @@ Colouring colour_vertices(const Tetrahedra& T, int vertex_count, const std::vect
   int stamp = 0;
   for (int v : sorted) {
     ++stamp;
-    for (int k = offset[static_cast<size_t>(v)]; k < offset[static_cast<size_t>(v) + 1]; ++k)
+    for (int k = around.offset[static_cast<size_t>(v)]; k < around.offset[static_cast<size_t>(v) + 1]; ++k)
       for (int a = 0; a < 4; ++a) {
-        const int c = colour[static_cast<size_t>(T(tets[static_cast<size_t>(k)], a))];
+        const int c = colour[static_cast<size_t>(T(around.around[static_cast<size_t>(k)].first, a))];
         if (c < 0) continue;
         if (c >= static_cast<int>(used.size())) used.resize(static_cast<size_t>(c) + 1, 0);
         used[static_cast<size_t>(c)] = stamp;

@@ -7,12 +7,22 @@
 #pragma once
 
 #include "mesh_types.h"
+#include <utility>
 #include <vector>
 
 namespace tb {
 
 /// Colour classes, each a list of item indices in increasing order.
 using Colouring = std::vector<std::vector<int>>;
+
+/// The tets around each vertex (CSR): those of vertex v are around[offset[v]] to
+/// around[offset[v + 1] - 1], each (tet, the vertex's place 0..3 in it), in
+/// increasing tet order.
+struct VertexTets {
+  std::vector<int> offset;                  ///< #V + 1
+  std::vector<std::pair<int, int>> around;  ///< 4 #T
+};
+VertexTets vertex_tets(const Tetrahedra& T, int vertex_count);
 
 /// The listed vertices (`active`, each in [0, #V)) coloured so that no two in one
 /// class share a tet of T (#T by 4). #V: the vertex count.

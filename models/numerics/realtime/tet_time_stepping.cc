@@ -10,6 +10,13 @@ std::vector<ParameterSpec> time_stepping_parameters(double default_time_step) {
                           "not depend on it")};
 }
 
+ParameterSpec material_law_parameter(const std::string& default_law) {
+  std::vector<std::string> laws;
+  for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
+  return ParameterSpec::choice("material_law", laws, default_law,
+                               "the material law (numerics/materials), with the Lame parameters of the scenario's E and nu");
+}
+
 TimeStepping time_stepping(const Parameters& p) {
   TimeStepping s;
   s.time_step = p.number("time_step");

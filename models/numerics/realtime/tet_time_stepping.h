@@ -18,11 +18,14 @@
 #include <memory>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "colouring.h"
 #include "elastic_solve.h"
+#include "lame_parameters.h"
+#include "material_law_visit.h"
 #include "tet_element.h"
 #include "thread_team.h"
 
@@ -37,6 +40,19 @@ struct TimeStepping {
 /// The parameters time_step and threads, for the models built on these steppers.
 std::vector<ParameterSpec> time_stepping_parameters(double default_time_step);
 TimeStepping time_stepping(const Parameters& p);
+/// The parameter material_law: any law of the table, `default_law` unless given.
+ParameterSpec material_law_parameter(const std::string& default_law);
+
+/// Stepper<Law>(body, law, args..., defined_when_inverted) for the law of the table
+/// called `law` with the Lame parameters of the body's material: a stepper whose
+/// inner loop evaluates the law inlined (material_law_visit.h).
+template <template <class> class Stepper, class... Args>
+std::unique_ptr<ElasticSolve> make_for_law(const std::string& law, const ElasticBody& body, const Args&... args) {
+  const bool defined = find_material_law(law).defined_when_inverted;
+  return visit_material_law(law, lame_parameters(body.material()), [&](const auto& l) -> std::unique_ptr<ElasticSolve> {
+    return std::make_unique<Stepper<std::decay_t<decltype(l)>>>(body, l, args..., defined);
+  });
+}
 
 template <class Law>
 class TetTimeStepper : public ElasticSolve {
@@ -144,6 +160,45 @@ class TetTimeStepper : public ElasticSolve {
       }
     }
     return true;
+  }
+
+  /// Where the tools' move this frame would invert a tet beside a held node (a
+  /// grasp lifted by more than the cells around it are tall), under a law undefined
+  /// there (`law`): the held components advance from x_n_ towards target_ by the
+  /// largest fraction of what is left that keeps every tet positive (halved until it
+  /// does), relax() moving the free ones after each stage, until they reach target_.
+  /// The free components start where x_ has them. Counts the stages in `stages`;
+  /// throws std::runtime_error (one line, the stepper's name first) when a stage
+  /// would be below 1/4096 of the move or past 64 stages.
+  template <class Relax>
+  void move_held_in_stages(Relax&& relax, const std::string& law, int& stages) {
+    const Eigen::Index n = x_.cols();
+    auto hold_at = [&](double fraction) {
+      for (Eigen::Index v = 0; v < n; ++v)
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) == 0) x_(i, v) = x_n_(i, v) + fraction * (target_(i, v) - x_n_(i, v));
+    };
+    double reached = 0;
+    while (reached < 1) {
+      double step = 1 - reached;
+      hold_at(reached + step);
+      Eigen::Index t = -1;
+      double J = 0;
+      while (!all_positive(x_, &t, &J)) {
+        step /= 2;
+        if (step < 1.0 / 4096 || stages >= 64) {
+          std::ostringstream msg;
+          msg << name_ << ": this frame's tool positions invert tet " << t << " (det F = " << J
+              << ") beside a held node even in " << stages << " stages, where the " << law
+              << " law is undefined; ramp the tool over more frames or use a law defined there (stable_neo_hookean)";
+          throw std::runtime_error(msg.str());
+        }
+        hold_at(reached + step);
+      }
+      reached = step >= 1 - reached ? 1 : reached + step;
+      relax();
+      ++stages;
+    }
   }
 
   /// Runs item(k) for every k of every class, class by class; the items of a class

@@ -5,8 +5,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lame_parameters.h"
-#include "material_law_visit.h"
 
 namespace tb {
 namespace {
@@ -40,15 +38,9 @@ class VbdSolve : public TetTimeStepper<Law> {
       throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
     const Eigen::Index n = x_.cols();
     // Tets around each vertex, with the vertex's place in the tet (CSR).
-    offset_.assign(static_cast<size_t>(n) + 1, 0);
-    for (Eigen::Index t = 0; t < T_.rows(); ++t)
-      for (int a = 0; a < 4; ++a) ++offset_[static_cast<size_t>(T_(t, a)) + 1];
-    for (size_t v = 0; v < static_cast<size_t>(n); ++v) offset_[v + 1] += offset_[v];
-    around_.resize(static_cast<size_t>(offset_.back()));
-    std::vector<int> fill(offset_.begin(), offset_.end() - 1);
-    for (Eigen::Index t = 0; t < T_.rows(); ++t)
-      for (int a = 0; a < 4; ++a)
-        around_[static_cast<size_t>(fill[static_cast<size_t>(T_(t, a))]++)] = {static_cast<int>(t), a};
+    VertexTets around = vertex_tets(T_, static_cast<int>(n));
+    offset_ = std::move(around.offset);
+    around_ = std::move(around.around);
     std::vector<int> moving;
     for (Eigen::Index v = 0; v < n; ++v)
       if (free_.col(v).sum() > 0) moving.push_back(static_cast<int>(v));
@@ -93,7 +85,7 @@ class VbdSolve : public TetTimeStepper<Law> {
       sweeps(h2);
       stages_ = 1;
     } else {
-      move_held_in_stages(h2);
+      this->move_held_in_stages([&] { sweeps(h2); }, o_.law, stages_);  // a frame costs its sweeps once per stage
     }
     for (Eigen::Index v = 0; v < n; ++v)
       for (int i = 0; i < 3; ++i)
@@ -126,42 +118,6 @@ class VbdSolve : public TetTimeStepper<Law> {
     for (int k = 1; k <= o_.iterations; ++k) {
       this->sweep(colours_, update);
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
-    }
-  }
-
-  /// Where the tools' move this frame would invert a tet beside a held node (a
-  /// grasp lifted by more than the cells around it are tall), under a law
-  /// undefined there: the held components advance by the largest fraction of
-  /// what is left that keeps every tet positive (halved until it does), `iterations`
-  /// sweeps relax the body after each stage, until they reach the tools' positions.
-  /// A frame then costs its sweeps once per stage (report: stages_last_frame).
-  void move_held_in_stages(double h2) {
-    const Eigen::Index n = x_.cols();
-    auto hold_at = [&](double fraction) {
-      for (Eigen::Index v = 0; v < n; ++v)
-        for (int i = 0; i < 3; ++i)
-          if (free_(i, v) == 0) x_(i, v) = x_n_(i, v) + fraction * (this->target_(i, v) - x_n_(i, v));
-    };
-    double reached = 0;
-    while (reached < 1) {
-      double step = 1 - reached;
-      hold_at(reached + step);
-      Eigen::Index t = -1;
-      double J = 0;
-      while (!this->all_positive(x_, &t, &J)) {
-        step /= 2;
-        if (step < 1.0 / 4096 || stages_ >= 64) {
-          std::ostringstream msg;
-          msg << "vbd: this frame's tool positions invert tet " << t << " (det F = " << J
-              << ") beside a held node even in " << stages_ << " stages, where the " << o_.law
-              << " law is undefined; ramp the tool over more frames or use a law defined there (stable_neo_hookean)";
-          throw std::runtime_error(msg.str());
-        }
-        hold_at(reached + step);
-      }
-      reached = step >= 1 - reached ? 1 : reached + step;
-      sweeps(h2);
-      ++stages_;
     }
   }
 
@@ -272,12 +228,9 @@ class VbdSolve : public TetTimeStepper<Law> {
 
 std::vector<ParameterSpec> vbd_parameters() {
   using P = ParameterSpec;
-  std::vector<std::string> laws;
-  for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
   const VbdSettings d;
   std::vector<ParameterSpec> specs = time_stepping_parameters(d.stepping.time_step);
-  specs.push_back(P::choice("material_law", laws, d.law,
-                            "the material law (numerics/materials), with the Lame parameters of the scenario's E and nu"));
+  specs.push_back(material_law_parameter(d.law));
   specs.push_back(P::whole_number("iterations", d.iterations, 1, 100000, "sweeps over every vertex colour per frame"));
   specs.push_back(P::number("chebyshev_rho", d.chebyshev_rho, 0, 0.9999,
                             "> 0: Chebyshev acceleration with this spectral radius estimate (0: off)"));
@@ -299,12 +252,7 @@ VbdSettings vbd_settings(const Parameters& p) {
 }
 
 std::unique_ptr<ElasticSolve> make_vbd_solve(const ElasticBody& body, const VbdSettings& settings) {
-  const bool defined = find_material_law(settings.law).defined_when_inverted;
-  return visit_material_law(settings.law, lame_parameters(body.material()),
-                            [&](const auto& law) -> std::unique_ptr<ElasticSolve> {
-                              using Law = std::decay_t<decltype(law)>;
-                              return std::make_unique<VbdSolve<Law>>(body, law, settings, defined);
-                            });
+  return make_for_law<VbdSolve>(settings.law, body, settings);
 }
 
 }  // namespace tb

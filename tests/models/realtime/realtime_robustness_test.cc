@@ -76,21 +76,21 @@ struct Outcome {
 
 /// `frames` frames of the stepper under a 0.2 N pull at the top centre: is u finite,
 /// the residual it reports, and its distance from Newton's answer of the same law.
-Outcome run(const TetMesh& mesh, const Material& material, bool vbd, double time_step, int frames) {
+Outcome run(const TetMesh& mesh, const Material& material, testing::RealtimeStepper which, double time_step,
+            int frames) {
   const ElasticBody body(mesh, material, clamped_base(mesh));
   const BodyLoads loads(body, {containing_tet(mesh, {kSide / 2, kSide / 2, kSide}, "cube")});
   const Eigen::Vector3d force(0, 0, 0.2);
   TimeStepping stepping;
   stepping.time_step = time_step;
-  const auto s = testing::make_default_stepper(
-      body, vbd ? testing::RealtimeStepper::Vbd : testing::RealtimeStepper::Xpbd, stepping);
+  const auto s = testing::make_default_stepper(body, which, stepping);
   ElasticFrame frame(body, loads, *s);
   Eigen::VectorXd u;
   for (int f = 0; f < frames; ++f) frame.step({force}, {}, u);
   Outcome o;
   o.finite = u.allFinite();
   o.residual = s->report()["static_residual"].get<double>();
-  const Eigen::VectorXd expected = newton_answer(body, loads, vbd ? "neo_hookean" : "xpbd_neo_hookean", force);
+  const Eigen::VectorXd expected = newton_answer(body, loads, testing::default_law(which), force);
   o.error = (u - expected).norm() / expected.norm();
   return o;
 }
@@ -101,7 +101,7 @@ struct Case {
   double nu, time_step;
 };
 
-class RealtimeRobustness : public ::testing::TestWithParam<std::tuple<Case, bool>> {};
+class RealtimeRobustness : public ::testing::TestWithParam<std::tuple<Case, testing::RealtimeStepper>> {};
 
 // Finite, and the residual it reports is an honest scale of its error. The residual
 // is a force imbalance; the displacement error it leaves is larger by up to the
@@ -114,11 +114,11 @@ class RealtimeRobustness : public ::testing::TestWithParam<std::tuple<Case, bool
 // 4.8e-3 / 0.92; 10x the time step, VBD 5.8e-14 / 1.4e-14, XPBD 0.37 / 1.04. So a
 // residual of 1e-3 at nu = 0.499 still means an error of a few per cent.
 TEST_P(RealtimeRobustness, StaysFiniteAndReportsHowFarFromConvergedItIs) {
-  const auto& [c, vbd] = GetParam();
+  const auto& [c, which] = GetParam();
   const TetMesh mesh = c.sliver ? cube_with_a_sliver() : small_cube();
   const Material material{3000, c.nu, 1000};
-  const Outcome o = run(mesh, material, vbd, c.time_step, 300);
-  const std::string who = std::string(vbd ? "vbd" : "xpbd_neo") + " " + c.name;
+  const Outcome o = run(mesh, material, which, c.time_step, 300);
+  const std::string who = std::string(testing::name(which)) + " " + c.name;
   EXPECT_TRUE(o.finite) << who;
   EXPECT_TRUE(std::isfinite(o.residual)) << who;
   const double p_to_shear_modulus = 2 * (1 - c.nu) / (1 - 2 * c.nu);  // (lambda + 2 mu) / mu
@@ -131,8 +131,8 @@ INSTANTIATE_TEST_SUITE_P(
     Inputs, RealtimeRobustness,
     ::testing::Combine(::testing::Values(Case{"nu0499", false, 0.499, 0.01}, Case{"sliver", true, 0.45, 0.01},
                                          Case{"step10x", false, 0.45, 0.1}),
-                       ::testing::Bool()),
-    [](const auto& i) { return std::get<0>(i.param).name + (std::get<1>(i.param) ? "_vbd" : "_xpbd_neo"); });
+                       ::testing::ValuesIn(testing::kRealtimeSteppers)),
+    [](const auto& i) { return std::get<0>(i.param).name + "_" + testing::name(std::get<1>(i.param)); });
 
 }  // namespace
 }  // namespace tb

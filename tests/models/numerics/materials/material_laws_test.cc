@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "arap_volume.h"
 #include "lame_parameters.h"
 #include "linear_elastic.h"
 #include "material.h"
@@ -182,6 +183,12 @@ struct Traits<XpbdNeoHookean> {
   static constexpr bool frame_indifferent = true;
   static constexpr double small_strain_tolerance = 1e-12;
 };
+template <>
+struct Traits<ArapVolume> {
+  static constexpr const char* name = "arap_volume";
+  static constexpr bool frame_indifferent = true;
+  static constexpr double small_strain_tolerance = 1e-12;
+};
 
 struct LawName {
   template <class Law>
@@ -192,7 +199,8 @@ struct LawName {
 
 template <class Law>
 class EveryLaw : public ::testing::Test {};
-using Laws = ::testing::Types<LinearElastic, NeoHookean, NeoHookeanIsochoric, StableNeoHookean, XpbdNeoHookean>;
+using Laws =
+    ::testing::Types<LinearElastic, NeoHookean, NeoHookeanIsochoric, StableNeoHookean, XpbdNeoHookean, ArapVolume>;
 TYPED_TEST_SUITE(EveryLaw, Laws, LawName);
 
 TYPED_TEST(EveryLaw, StressIsTheEnergyGradient) {
@@ -443,20 +451,24 @@ TEST(NeoHookeanIsochoric, UndefinedForNonPositiveJ) {
   expect_undefined_when_inverted(NeoHookeanIsochoric(lame_parameters(kE, 0.45)), "neo_hookean_isochoric");
 }
 
-TEST(StableNeoHookean, FiniteWhenInvertedAndPushesBack) {
-  const StableNeoHookean law(lame_parameters(kE, 0.45));
+/// A law defined for det F <= 0: finite there; at the reflection diag(1, 1, -1),
+/// dW/dF_33 = P_33 < 0 (the energy falls as F_33 grows back towards +1); and the
+/// central differences hold at an inverted F too (smooth through J = 0).
+template <class Law>
+void expect_finite_when_inverted_and_pushing_back(const Law& law) {
   for (const Mat3& F : non_positive_J()) {
     EXPECT_TRUE(std::isfinite(law.energy(F))) << F;
     EXPECT_TRUE(law.first_piola(F).allFinite()) << F;
     EXPECT_TRUE(law.tangent(F).allFinite()) << F;
   }
-  // At the reflection diag(1, 1, -1), dW/dF_33 = P_33 < 0: the energy falls as
-  // F_33 grows back towards +1.
   EXPECT_LT(law.first_piola(Vec3(1, 1, -1).asDiagonal())(2, 2), 0);
-  // And the central differences hold there too (the law is smooth through J = 0).
   const Mat3 F = Vec3(1.1, 0.9, -0.3).asDiagonal();
   EXPECT_LT(relative(stress_by_differences(law, F), law.first_piola(F)), 1e-6);
   EXPECT_LT(relative(tangent_by_differences(law, F), law.tangent(F)), 1e-6);
+}
+
+TEST(StableNeoHookean, FiniteWhenInvertedAndPushesBack) {
+  expect_finite_when_inverted_and_pushing_back(StableNeoHookean(lame_parameters(kE, 0.45)));
 }
 
 TEST(LinearElastic, FiniteWhenInverted) {
@@ -601,6 +613,7 @@ TEST(TetStiffness, ForceAndStiffnessAreDerivativesAwayFromRest) {
   expect_element_derivatives(NeoHookean(p));
   expect_element_derivatives(NeoHookeanIsochoric(p));
   expect_element_derivatives(StableNeoHookean(p));
+  expect_element_derivatives(ArapVolume(p));
 }
 
 // The serial assembly (numerics/elasticity/stiffness_assembly.cc, deal.II's P1 gradients) on a
@@ -688,7 +701,7 @@ TEST(MaterialLaws, EachLawOnceWithAPlainName) {
     names.push_back(law.name);
   }
   EXPECT_EQ(names, (std::vector<std::string>{"linear", "neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean",
-                                             "xpbd_neo_hookean"}));
+                                             "xpbd_neo_hookean", "arap_volume"}));
 }
 
 template <class Law>
@@ -717,6 +730,7 @@ TEST(MaterialLaws, EntriesAreTheLaws) {
   expect_entry_is<NeoHookeanIsochoric>("neo_hookean_isochoric");
   expect_entry_is<StableNeoHookean>("stable_neo_hookean");
   expect_entry_is<XpbdNeoHookean>("xpbd_neo_hookean");
+  expect_entry_is<ArapVolume>("arap_volume");
 }
 
 // visit_material_law reaches every law of the table, as the struct of that name.
@@ -752,6 +766,47 @@ TEST(XpbdNeoHookean, ParametersAndUniaxialStretchClosedForm) {
           });
     }
   }
+}
+
+// The ARAP-plus-volume law is what its header says it is, from its definition: R
+// is a rotation and Pi has det 1; both are nearest (no rotation, no unit-determinant
+// matrix nearby is closer to F: random perturbations along each set); W is
+// mu |F - R|^2 + 3 lambda/2 |F - Pi|^2 and P = 2 mu (F - R) + 3 lambda (F - Pi), the
+// combination PD's local step computes (pd_solve.h). Inverted F included.
+TEST(ArapVolume, IsTheDistanceToRotationsAndToUnitDeterminant) {
+  Random r(2014);
+  const LameParameters p = lame_parameters(kE, 0.45);
+  const ArapVolume law(p);
+  std::vector<Mat3> samples = all_samples();
+  samples.push_back(Vec3(1.1, 0.9, -0.3).asDiagonal());
+  samples.push_back(r.rotation() * Vec3(1.2, 0.7, -0.5).asDiagonal() * r.rotation());
+  for (const Mat3& F : samples) {
+    const SignedSvd svd = signed_svd(F);
+    const UnitDeterminantProjection proj = project_to_unit_determinant(svd.sigma);
+    const Mat3 R = svd.U * svd.V.transpose(), Pi = svd.U * proj.d.asDiagonal() * svd.V.transpose();
+    EXPECT_LE((R.transpose() * R - Mat3::Identity()).norm(), 1e-14);
+    EXPECT_NEAR(R.determinant(), 1, 1e-14);
+    EXPECT_NEAR(Pi.determinant(), 1, 1e-14) << F;
+    EXPECT_LE((svd.U * svd.sigma.asDiagonal() * svd.V.transpose() - F).norm(), 1e-14 * F.norm());
+    for (int k = 0; k < 20; ++k) {
+      const Mat3 Q = Eigen::AngleAxisd(r.uniform(-0.05, 0.05), Vec3(r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(-1, 1)).normalized())
+                         .toRotationMatrix();
+      EXPECT_GE((F - R * Q).norm(), (F - R).norm() - 1e-14) << F;
+      Mat3 D = Pi;
+      for (int e = 0; e < 9; ++e) D(e) += r.uniform(-0.02, 0.02);
+      D /= std::cbrt(D.determinant());  // back on det = 1
+      EXPECT_GE((F - D).norm(), (F - Pi).norm() - 1e-14) << F;
+    }
+    const double W = p.mu * (F - R).squaredNorm() + 1.5 * p.lambda * (F - Pi).squaredNorm();
+    EXPECT_NEAR(law.energy(F), W, 1e-12 * W) << F;
+    EXPECT_LT(relative(law.first_piola(F), 2 * p.mu * (F - R) + 3 * p.lambda * (F - Pi)), 1e-12) << F;
+  }
+  EXPECT_EQ(law.energy(Mat3::Identity()), 0);
+}
+
+// Inverted and flat elements (R a rotation, Pi of det +1 for them too).
+TEST(ArapVolume, FiniteWhenInvertedAndPushesBack) {
+  expect_finite_when_inverted_and_pushing_back(ArapVolume(lame_parameters(kE, 0.45)));
 }
 
 TEST(MaterialLaws, UnknownNameListsTheKnownOnes) {
