@@ -12,6 +12,7 @@ namespace {
 class DirectSolve : public ElasticSolve {
  public:
   explicit DirectSolve(const ElasticBody& body) : body_(body), cholesky_(body.free_stiffness()), x_(body.free_dofs()) {}
+  bool factorised() const override { return true; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>* nonzero_rows, Eigen::VectorXd& u) override {
     if (!nonzero_rows) {

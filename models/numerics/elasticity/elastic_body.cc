@@ -181,18 +181,51 @@ namespace tb {
 
 ElasticFrame::ElasticFrame(const ElasticBody& body, const BodyLoads& loads, ElasticSolve& solve)
     : body_(body), loads_(loads), solve_(solve) {
+  const size_t groups = body.prescribed_groups().size();
+  group_forces_.assign(groups, Eigen::Vector3d::Zero());
+  if (solve.factorised() && groups > 0) {
+    rows_ = loads.loaded_free_dofs();
+    std::vector<Eigen::Vector3d> unit(groups, Eigen::Vector3d::Zero());
+    Eigen::VectorXd u;
+    for (size_t g = 0; g < groups; ++g) {
+      group_response_.push_back(Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(body.free_dofs(), 3));
+      for (int c = 0; c < 3; ++c) {
+        if (!body.prescribed_groups()[g].components[c]) continue;
+        unit[g] = Eigen::Vector3d::Unit(c);
+        f_free_.setZero(body.free_dofs());
+        body.subtract_prescribed(unit, f_free_);
+        u.setZero(body.dofs());
+        solve.solve(f_free_, &body.prescribed_coupled_rows(), u);
+        body.to_free(u, u_free_);
+        group_response_.back().col(c) = u_free_;
+      }
+      unit[g].setZero();
+    }
+    return;
+  }
   std::set_union(loads.loaded_free_dofs().begin(), loads.loaded_free_dofs().end(),
                  body.prescribed_coupled_rows().begin(), body.prescribed_coupled_rows().end(),
                  std::back_inserter(rows_));
-  group_forces_.assign(body.prescribed_groups().size(), Eigen::Vector3d::Zero());
 }
 
 void ElasticFrame::step(const std::vector<Eigen::Vector3d>& load_values,
                         const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& u) {
   loads_.assemble(load_values, f_free_);
-  if (solve_.linear()) body_.subtract_prescribed(group_values, f_free_);
+  const bool precomputed = !group_response_.empty();
+  if (solve_.linear() && !precomputed) body_.subtract_prescribed(group_values, f_free_);
   body_.set_prescribed(group_values, u);  // before the solve: a strategy may read u whole
-  solve_.solve(f_free_, &rows_, u);
+  if (!precomputed) {
+    solve_.solve(f_free_, &rows_, u);
+  } else {  // u_f = K_ff^-1 f_f + sum_g W_g d_g
+    if (rows_.empty()) {  // no load reaches a free dof: only the tools move the body
+      u_free_.setZero(body_.free_dofs());
+    } else {
+      solve_.solve(f_free_, &rows_, u);
+      body_.to_free(u, u_free_);
+    }
+    for (size_t g = 0; g < group_response_.size(); ++g) u_free_.noalias() += group_response_[g] * group_values[g];
+    body_.to_full(u_free_, u);
+  }
   body_.set_prescribed(group_values, u);
   loads_.assemble_full(load_values, f_full_);
   body_.reactions(u, f_full_, group_forces_, support_force_, solve_.internal_force());

@@ -124,7 +124,12 @@ class BodyLoads {
 /// One static frame of a linear-elastic body: the loads assembled, the prescribed
 /// displacements applied (K_ff u_f = f_f - K_fp u_p), solved by `solve`, and the
 /// reactions measured: what the fem, embedded and hybrid models share. The body,
-/// the loads and the solve must outlive it.
+/// the loads and the solve must outlive it. With a factorised solve (direct), each
+/// prescribed group's response to a unit translation, K_ff w = -K_fp e, is solved
+/// once here and a frame adds the groups' values times their responses to the
+/// loads' solution: the frame's forward substitution visits the loads' rows only,
+/// not every row the held nodes couple to (a plate's face), so a tool costs about
+/// what a point force does (docs/architecture.md, "What the layers cost a frame").
 class ElasticFrame {
  public:
   ElasticFrame(const ElasticBody& body, const BodyLoads& loads, ElasticSolve& solve);
@@ -143,7 +148,10 @@ class ElasticFrame {
   const BodyLoads& loads_;
   ElasticSolve& solve_;
   std::vector<int> rows_;  ///< free dofs the right-hand side may touch
-  Eigen::VectorXd f_free_, f_full_;
+  Eigen::VectorXd f_free_, f_full_, u_free_;
+  /// Factorised solves: per group, the free dofs' response to a unit translation
+  /// along x, y, z (#free by 3; zero columns for components it does not hold).
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> group_response_;
   std::vector<Eigen::Vector3d> group_forces_;
   Eigen::Vector3d support_force_ = Eigen::Vector3d::Zero();
 };

@@ -40,6 +40,10 @@ class ElasticSolve {
   /// nonlinear strategy takes the external force alone and reads the prescribed
   /// values from u (set by the caller before solve()).
   virtual bool linear() const { return true; }
+  /// Whether a solve is a back-substitution on a factorisation made once (direct):
+  /// then the response to a prescribed group's unit translation is precomputed
+  /// (ElasticFrame) instead of lifted into every frame's right-hand side.
+  virtual bool factorised() const { return false; }
   /// A nonlinear strategy's internal force f_int(u) at the last solution (3 #V),
   /// from which reactions are f - f_int; null for a linear one (then K u).
   virtual const Eigen::VectorXd* internal_force() const { return nullptr; }
