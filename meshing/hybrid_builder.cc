@@ -12,7 +12,15 @@
 namespace tb {
 namespace {
 
-/// Nodes of the coarse mesh on its boundary (faces owned by one tet), ascending.
+
+std::vector<int> surface_to_volume_identity(const SurfaceMesh& s) {
+  std::vector<int> map(static_cast<size_t>(s.V.rows()));
+  std::iota(map.begin(), map.end(), 0);  // tetrahedralize_surface keeps surface vertices first
+  return map;
+}
+
+}  // namespace
+
 std::vector<int> boundary_nodes(const TetMesh& m) {
   std::map<std::array<int, 3>, int> face_count;
   static const int faces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
@@ -31,14 +39,6 @@ std::vector<int> boundary_nodes(const TetMesh& m) {
     if (on[v]) out.push_back(static_cast<int>(v));
   return out;
 }
-
-std::vector<int> surface_to_volume_identity(const SurfaceMesh& s) {
-  std::vector<int> map(static_cast<size_t>(s.V.rows()));
-  std::iota(map.begin(), map.end(), 0);  // tetrahedralize_surface keeps surface vertices first
-  return map;
-}
-
-}  // namespace
 
 HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBuildOptions& o,
                                      const std::string& source) {

@@ -50,4 +50,7 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
 /// Largest distance from a fine-surface vertex to the coarse tet it is embedded in.
 double max_embedding_distance(const HybridMesh& mesh);
 
+/// Nodes of a tet mesh on its boundary (those of faces owned by one tet), ascending.
+std::vector<int> boundary_nodes(const TetMesh& m);
+
 }  // namespace tb

@@ -42,27 +42,6 @@ const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume, 
   return *m;
 }
 
-std::vector<int> boundary_nodes(const TetMesh& m) {
-  std::map<std::array<int, 3>, int> faces;
-  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f;
-      int k = 0;
-      for (int j = 0; j < 4; ++j)
-        if (j != skip) f[static_cast<size_t>(k++)] = m.T(t, j);
-      std::sort(f.begin(), f.end());
-      ++faces[f];
-    }
-  std::vector<char> on(static_cast<size_t>(m.V.rows()), 0);
-  for (const auto& [f, count] : faces)
-    if (count == 1)
-      for (int n : f) on[static_cast<size_t>(n)] = 1;
-  std::vector<int> out;
-  for (size_t n = 0; n < on.size(); ++n)
-    if (on[n]) out.push_back(static_cast<int>(n));
-  return out;
-}
-
 TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume) {
   SurfaceMesh s = make_cube_surface({1.0, 1.0, nx, ny, nz});
   s.V.col(0) = (s.V.col(0).array() + 0.5) * lx;  // [0, lx]

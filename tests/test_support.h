@@ -70,9 +70,6 @@ const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume =
 /// nx x ny x nz grid (make_cube_surface), tets at most max_volume.
 TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume);
 
-/// Nodes on the boundary of a tet mesh (those of faces that belong to one tet), ascending.
-std::vector<int> boundary_nodes(const TetMesh& m);
-
 /// Largest |values(v) - parity values(mirror(v))| over vertices, where mirror(v)
 /// is the vertex nearest v reflected across the plane x_axis = 0 (parity -1 for
 /// the reflected component of a vector field).

@@ -41,6 +41,15 @@ class Scenarios : public ::testing::Test {
              "displacement": [0, 0, -0.002]}])");
     return pressed;
   }
+  /// small.json (small_cube()) and pressed.json (pressed_small_cube()), each run by
+  /// the direct fem alone, "fem-direct".
+  void write_loaded_and_pressed() {
+    for (auto [name, scenario] : {std::pair{"small.json", small_cube()}, std::pair{"pressed.json", pressed_small_cube()}}) {
+      scenario["models"] = nlohmann::json::array();
+      scenario["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
+      write(name, scenario);
+    }
+  }
   std::string write(const std::string& name, const nlohmann::json& j) {
     const std::string p = (dir / name).string();
     std::ofstream(p) << j.dump(2);

@@ -106,14 +106,7 @@ TEST_F(Sweeps, BadDeclarationsAreErrorsNamingTheKey) {
 // where its model takes the scenario's tools; the others are listed with the reason.
 // (pbd takes no sliding plate.)
 TEST_F(Scenarios, UnsupportedCasesAreLeftOutWithTheirReasonWhenTheExperimentSaysSkip) {
-  nlohmann::json pressed = pressed_small_cube();
-  pressed["models"] = nlohmann::json::array();
-  pressed["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
-  write("pressed.json", pressed);
-  nlohmann::json loaded = small_cube();
-  loaded["models"] = nlohmann::json::array();
-  loaded["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
-  write("small.json", loaded);
+  write_loaded_and_pressed();
   nlohmann::json experiment = {{"name", "suite"},
                                {"reference", "fem-direct"},
                                {"unsupported_cases", "skip"},
@@ -178,14 +171,7 @@ TEST_F(Scenarios, LawReferencesAreRecordedAndMustNameCasesOnce) {
 // tissuebench run SUITE --model NAME, NAME a registered model no case runs: a case of
 // it (its defaults) joins every scenario that takes it.
 TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
-  nlohmann::json pressed = pressed_small_cube();
-  pressed["models"] = nlohmann::json::array();
-  pressed["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
-  write("pressed.json", pressed);
-  nlohmann::json loaded = small_cube();
-  loaded["models"] = nlohmann::json::array();
-  loaded["models"].push_back({{"name", "fem-direct"}, {"model", "fem"}});
-  write("small.json", loaded);
+  write_loaded_and_pressed();
   const std::string path = write("suite.json", {{"name", "suite"},
                                                 {"reference", "fem-direct"},
                                                 {"unsupported_cases", "skip"},

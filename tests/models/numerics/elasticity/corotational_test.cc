@@ -11,6 +11,7 @@
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "load_mapping.h"
+#include "hybrid_builder.h"
 #include "model.h"
 #include "test_support.h"
 #include "tool_placement.h"
@@ -194,7 +195,7 @@ TEST(CorotationalSolve, HeldNodesFollowARigidRotationAndToolsBalanceTheLoad) {
   const TetMesh& m = cube().fine_volume;
   const Eigen::Matrix3d Q = Eigen::AngleAxisd(M_PI / 3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   std::vector<char> on_boundary(static_cast<size_t>(m.V.rows()), 0);
-  for (int n : testing::boundary_nodes(m)) on_boundary[static_cast<size_t>(n)] = 1;
+  for (int n : boundary_nodes(m)) on_boundary[static_cast<size_t>(n)] = 1;
   std::vector<PrescribedGroup> groups;
   std::vector<Eigen::Vector3d> values;
   for (Eigen::Index n = 0; n < m.V.rows(); ++n)
