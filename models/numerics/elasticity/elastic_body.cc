@@ -179,27 +179,31 @@ void BodyLoads::assemble(const std::vector<Eigen::Vector3d>& values, Eigen::Vect
 
 namespace tb {
 
+void unit_translation_response(const ElasticBody& body, ElasticSolve& solve, size_t g, int c, Eigen::VectorXd& u) {
+  std::vector<Eigen::Vector3d> unit(body.prescribed_groups().size(), Eigen::Vector3d::Zero());
+  unit.at(g) = Eigen::Vector3d::Unit(c);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(body.free_dofs());
+  body.subtract_prescribed(unit, f);
+  u.setZero(body.dofs());
+  solve.solve(f, &body.prescribed_coupled_rows(), u);
+  body.set_prescribed(unit, u);
+}
+
 ElasticFrame::ElasticFrame(const ElasticBody& body, const BodyLoads& loads, ElasticSolve& solve)
     : body_(body), loads_(loads), solve_(solve) {
   const size_t groups = body.prescribed_groups().size();
   group_forces_.assign(groups, Eigen::Vector3d::Zero());
   if (solve.factorised() && groups > 0) {
     rows_ = loads.loaded_free_dofs();
-    std::vector<Eigen::Vector3d> unit(groups, Eigen::Vector3d::Zero());
     Eigen::VectorXd u;
     for (size_t g = 0; g < groups; ++g) {
       group_response_.push_back(Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(body.free_dofs(), 3));
       for (int c = 0; c < 3; ++c) {
         if (!body.prescribed_groups()[g].components[c]) continue;
-        unit[g] = Eigen::Vector3d::Unit(c);
-        f_free_.setZero(body.free_dofs());
-        body.subtract_prescribed(unit, f_free_);
-        u.setZero(body.dofs());
-        solve.solve(f_free_, &body.prescribed_coupled_rows(), u);
+        unit_translation_response(body, solve, g, c, u);
         body.to_free(u, u_free_);
         group_response_.back().col(c) = u_free_;
       }
-      unit[g].setZero();
     }
     return;
   }

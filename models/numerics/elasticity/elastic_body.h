@@ -94,6 +94,12 @@ class ElasticBody {
   mutable Eigen::VectorXd u_p_;                         ///< work: the prescribed values
 };
 
+/// u (3 #V): the body's response to a unit translation along component c of the
+/// held components of prescribed group g, the other groups at rest: K_ff u_f =
+/// -K_fp e solved by `solve` (linear), the held dofs set. The columns a
+/// precomputation superposes (ElasticFrame, PrecomputedResponse). Set-up only.
+void unit_translation_response(const ElasticBody& body, ElasticSolve& solve, size_t g, int c, Eigen::VectorXd& u);
+
 /// The loads of a run on one body, mapped to its nodes once (setup): per frame,
 /// assemble() gives the force on the free dofs with no allocation.
 class BodyLoads {

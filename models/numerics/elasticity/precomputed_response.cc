@@ -14,22 +14,14 @@ PrecomputedResponse::PrecomputedResponse(const ElasticBody& body, std::vector<in
       throw std::invalid_argument("precomputed response: output node out of range");
   // Each group's response to a unit translation of its held components:
   // K_ff u_f = -K_fp u_p with u_p that translation (the other groups at rest).
-  const size_t n_groups = body.prescribed_groups().size();
-  std::vector<Eigen::Vector3d> unit(n_groups, Eigen::Vector3d::Zero());
-  for (size_t g = 0; g < n_groups; ++g) {
+  for (size_t g = 0; g < body.prescribed_groups().size(); ++g) {
     groups_.push_back(zero_response());
     for (int c = 0; c < 3; ++c) {
       if (!body.prescribed_groups()[g].components[c]) continue;
-      unit[g] = Eigen::Vector3d::Unit(c);
-      f_.setZero(body.free_dofs());
-      body.subtract_prescribed(unit, f_);
-      u_.setZero(body.dofs());
-      direct_->solve(f_, nullptr, u_);
-      body.set_prescribed(unit, u_);
-      f_full_.setZero(body.dofs());
+      unit_translation_response(body, *direct_, g, c, u_);
+      f_full_.setZero(body.dofs());  // no external force: the reactions hold the translation alone
       store(groups_.back(), c);
     }
-    unit[g].setZero();
   }
 }
 
