@@ -257,14 +257,16 @@ def figure(role, scenario, scores, key, out_dir):
 def add_cases_from(exp, other_results, ref_name):
     """Cases of another run of the suite (e.g. `tissuebench run experiments/suite.json
     --model mymodel --out runs`) added to the results' scenarios of the same name;
-    a name the results already hold gets " (new)". Returns the names added."""
+    a name the results already hold gets " (new)". The other run's references (the
+    reference, the transient and law references) are not added: renamed, they would be
+    ranked as models. Returns the names added."""
     other = results_index.Experiment(other_results)
     added = set()
     for scenario, cases in other.scenarios.items():
         if scenario not in exp.scenarios:
             continue
         for name, case in cases.items():
-            if name == ref_name:
+            if name == ref_name or other.is_reference(name) or exp.is_reference(name):
                 continue
             label = name + " (new)" if name in exp.scenarios[scenario] else name
             exp.scenarios[scenario][label] = dict(case, name=label)

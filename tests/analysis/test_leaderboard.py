@@ -131,12 +131,16 @@ class Leaderboard(unittest.TestCase):
             committed = write_suite(os.path.join(tmp, "committed"))
             yours = os.path.join(tmp, "yours", "suite")
             write_case(yours, "pull", "mymodel", "my_model", 0.95 * U_REF, 0.08)
+            # A law reference in the other run too: a reference, never added (renamed it would be ranked).
+            write_case(yours, "pull", "reference-isochoric", "fem", 0.99 * U_REF, 0.01)
             with open(os.path.join(yours, "experiment.json"), "w") as f:
-                json.dump({"name": "suite", "reference": "reference",
-                           "scenarios": [{"name": "pull", "role": "cube_pull_disc", "cases": ["mymodel"]}]}, f)
+                json.dump({"name": "suite", "reference": "reference", "law_references": ["reference-isochoric"],
+                           "scenarios": [{"name": "pull", "role": "cube_pull_disc",
+                                          "cases": ["mymodel", "reference-isochoric"]}]}, f)
             out = os.path.join(tmp, "out")
             scores = leaderboard.make(committed, out, None, figures=False, with_results=yours)
             self.assertAlmostEqual({s["case"]: s for s in scores["cube_pull_disc"]}["mymodel"]["rel_l2"], 0.05)
+            self.assertNotIn("reference-isochoric (new)", {s["case"] for s in scores["cube_pull_disc"]})
             board = {r[0]: r for r in read_rows(os.path.join(out, "tables", "leaderboard.csv"))[1:]}
             self.assertEqual(board["cube_pull_disc"][2], "mymodel 0.05")  # 0.08 ms, more accurate than embedded
             self.assertEqual(board["torus_grasp"][2], "embedded 0.5")  # it did not run there
