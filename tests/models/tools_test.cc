@@ -202,6 +202,44 @@ TEST(Tools, PbdReactionsBalanceTheLoadItsDampingLeaves) {
   }
 }
 
+/// Bad reaction groups are one-line errors (pbd::Solver::set_reaction_groups), and
+/// the corotational FEM refuses a sphere in one line naming why.
+TEST(Tools, BadReactionGroupsAndACorotationalSphereAreOneLineErrors) {
+  const SurfaceMesh& s = cube().fine_surface;
+  std::vector<char> fixed = testing::kCubeBottom.clamp(s.V, "fine surface");
+  pbd::Solver solver(s, pbd::inverse_masses(s, 1000, fixed), pbd::Settings{});
+  auto message = [&](const std::vector<int>& group, int groups) {
+    try {
+      solver.set_reaction_groups(group, groups);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message({0, 1}, 1), "PBD solver: one reaction group per vertex expected");
+  std::vector<int> group(fixed.size(), -1);
+  int free_vertex = 0;
+  while (fixed[static_cast<size_t>(free_vertex)]) ++free_vertex;
+  group[static_cast<size_t>(free_vertex)] = 0;
+  EXPECT_EQ(message(group, 1),
+            "PBD solver: vertex " + std::to_string(free_vertex) + " of a reaction group is not pinned");
+  group[static_cast<size_t>(free_vertex)] = 3;
+  EXPECT_NE(message(group, 1).find("reaction group 3 of vertex"), std::string::npos);
+  group[static_cast<size_t>(free_vertex)] = -1;
+  EXPECT_EQ(message(group, 1), "accepted");
+
+  const ModelInfo& info = find_model("fem");
+  Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, {}, {Tool::sphere({0, 0, 0.11}, 0.01, "tools[0]")}},
+            resolve_parameters(info.parameters, {{"solver", "corotational"}}, "fem"), Points()};
+  auto m = info.create();
+  try {
+    m->setup(p);
+    FAIL() << "the corotational FEM took a sphere";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "fem: a sphere needs a linear elastic solve (direct or iterative), not a nonlinear one");
+  }
+}
+
 /// The direct solve adds each tool's precomputed response to the loads' solution
 /// (ElasticFrame, a factorised solve); the iterative one lifts the tools into the
 /// right-hand side each frame (K_ff u_f = f_f - K_fp u_p): the same field and
