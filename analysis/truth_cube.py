@@ -325,13 +325,19 @@ def figures(scored, grid, out):
     plt.close(fig)
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def run_command(make_tables, name, doc):
+    """The command line of a script over the Truth Cube's results: RESULTS OUT [--data-dir DIR],
+    then make_tables(results, out, data_dir) (a ResultsError is one line)."""
+    p = argparse.ArgumentParser(description=doc.splitlines()[0])
     p.add_argument("results")
     p.add_argument("out")
     p.add_argument("--data-dir", default="")
     a = p.parse_args()
-    results_index.main(lambda: make(a.results, a.out, a.data_dir), "truth_cube")
+    results_index.main(lambda: make_tables(a.results, a.out, a.data_dir), name)
+
+
+def main():
+    run_command(make, "truth_cube", __doc__)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,6 @@ analysis/truth_cube.py scores them (the same table, frame and metrics).
 
 Writes OUT/tables/truth_cube_nu_fit.{md,csv}; docs/truth_cube.md says what it shows.
 """
-import argparse
 import os
 
 import numpy as np
@@ -96,12 +95,7 @@ as the material.
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("results")
-    p.add_argument("out")
-    p.add_argument("--data-dir", default="")
-    a = p.parse_args()
-    results_index.main(lambda: make(a.results, a.out, a.data_dir), "truth_cube_nu_fit")
+    truth_cube.run_command(make, "truth_cube_nu_fit", __doc__)
 
 
 if __name__ == "__main__":
