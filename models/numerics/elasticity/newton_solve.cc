@@ -181,13 +181,15 @@ class NewtonSolve : public ElasticSolve {
     increments_ = 1;
     converged_ = false;
     stopped_.clear();
+    bool f_int_at_state = false;  // after an accepted step: the line search assembled it there
     for (;;) {
       // The held values' move still to make (zero on free dofs) and the residual here.
       du_p_.setZero(body_.dofs());
       for (int d = 0; d < body_.dofs(); ++d)
         if (body_.free_index(d) < 0) du_p_(d) = u_target(d) - state(d);
       const bool held_in_place = du_p_.lpNorm<Eigen::Infinity>() == 0;
-      if (!assemble(state, false)) throw std::logic_error("newton solve: an accepted iterate the law cannot take");
+      if (!f_int_at_state && !assemble(state, false))
+        throw std::logic_error("newton solve: an accepted iterate the law cannot take");
       residual(f, r_);
       const double r_norm = r_.norm();
       relative_residual_ = r_norm / std::max({f.norm(), f_int_.norm(), 1e-300});
@@ -232,6 +234,7 @@ class NewtonSolve : public ElasticSolve {
         break;
       }
       state = u_try_;
+      f_int_at_state = true;
     }
     // f_int_ is at `state` here.
     prescribed_left_ = du_p_.lpNorm<Eigen::Infinity>();
