@@ -212,6 +212,8 @@ class NewtonSolve : public ElasticSolve {
         state += du_full_;
         converged_ = true;
         assemble(state, false);
+        residual(f, r_);
+        relative_residual_ = r_.norm() / std::max({f.norm(), f_int_.norm(), 1e-300});
         break;
       }
       // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and,
