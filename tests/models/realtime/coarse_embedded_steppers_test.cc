@@ -4,10 +4,11 @@
 // give the static Newton solve of the same law on the same coarse mesh (the embedded
 // model with coarse_solver newton), interpolated to the same fine surface: the
 // surface, the reactions on the support and the tools, and the probes; under a point
-// force pulling and pushing, a bonded plate lifted, and a grasp under gravity, on a
-// small clamped cube whose fine surface is finer than the coarse mesh. XPBD's fixed
-// point is not its law's equilibrium (a bias of order h^2, tests/models/realtime/
-// realtime_solvers_test.cc): it is held to that bias. And the parameter's errors.
+// force pulling and pushing, a bonded plate lifted, a grasp under gravity, and a
+// traction beside a sliding plate, on a small clamped cube whose fine surface is
+// finer than the coarse mesh. XPBD's fixed point is not its law's equilibrium (a bias
+// of order h^2, tests/models/realtime/realtime_solvers_test.cc): it is held to that
+// bias. And the parameter's errors.
 #include <gtest/gtest.h>
 
 #include "cube_generator.h"
@@ -181,6 +182,27 @@ TEST_P(CoarseEmbeddedStepper, EqualsTheCoarseNewtonAnswerUnderAGraspAndGravity) 
   EXPECT_LT(reactions_error(*m, *reference), s.tolerance) << s.model;
   RecordProperty(s.model + "_grasp_gravity_frames", frames);
   RecordProperty(s.model + "_grasp_gravity_relative_error", ::testing::PrintToString(error));
+}
+
+// 0.2 N spread over a 1 cm disc at the top centre, and the side x = a pushed 2 mm in
+// by a sliding plate (its normal component held, the face free to slide along it).
+TEST_P(CoarseEmbeddedStepper, EqualsTheCoarseNewtonAnswerUnderATractionAndASlidingPlate) {
+  const CoarseStepper& s = GetParam();
+  const LoadCase load_case{kBottom,
+                           {Load::surface_traction({a / 2, a / 2, a}, 0.01)},
+                           {Tool::plate({{a - 1e-9, -1, 0.005}, {1, 1, 1}}, true, 0)}};
+  const FrameLoads loads{{Eigen::Vector3d(0, 0, 0.2)}, {Eigen::Vector3d(-0.002, 0, 0)}};
+  auto reference = newton_reference(s.law, load_case);
+  reference->step(loads);
+  auto m = set_up(s.model, s.parameters, load_case);
+  const int frames = settle(*m, loads, s.max_frames);
+  EXPECT_LE(frames, s.max_frames) << s.model;
+  const double error = relative(m->surface_displacement(), reference->surface_displacement());
+  EXPECT_LT(error, s.tolerance) << s.model;
+  EXPECT_LT(reactions_error(*m, *reference), s.tolerance) << s.model;
+  EXPECT_GT((*reference->reaction_forces())[0].x(), 0);  // the tissue pushes the plate back out
+  RecordProperty(s.model + "_traction_sliding_plate_frames", frames);
+  RecordProperty(s.model + "_traction_sliding_plate_relative_error", ::testing::PrintToString(error));
 }
 
 INSTANTIATE_TEST_SUITE_P(Steppers, CoarseEmbeddedStepper, ::testing::ValuesIn(coarse_steppers()),
