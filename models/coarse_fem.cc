@@ -4,7 +4,7 @@
 
 namespace tb {
 
-CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule) {
+CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule, const CoarseFemSolve& make_solve) {
   const HybridMesh& h = *p.mesh;
   const std::vector<char> clamped = p.load_case.support.clamp(h.coarse_volume.V, "coarse volume");
   std::vector<PrescribedGroup> groups;
@@ -18,7 +18,7 @@ CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule) {
   }
   group_values_.assign(groups.size(), Eigen::Vector3d::Zero());
   body_ = std::make_unique<ElasticBody>(h.coarse_volume, p.material, clamped, groups);
-  solve_ = make_elastic_solve(*body_, p.parameters, "coarse_");
+  solve_ = make_solve ? make_solve(*body_, p) : make_elastic_solve(*body_, p.parameters, "coarse_");
   loads_ = std::make_unique<BodyLoads>(
       *body_, place_on_volume(p.load_case.loads, {&h.coarse_volume, "coarse volume", &h.fine_surface, nullptr,
                                                   p.material.density, point_rule}));

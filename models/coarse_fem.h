@@ -4,10 +4,12 @@
 // a curved surface) or, as a study factor, at the nearest coarse node, each tool
 // held at the coarse nodes nearest the surface vertices it holds
 // (tool_placement.h), solved each frame by the strategy the model's coarse_*
-// parameters choose; with the reactions on each tool and the support, and the
+// parameters choose (or the one its model makes: the real-time nonlinear steppers
+// on the coarse mesh); with the reactions on each tool and the support, and the
 // displacement at the probes (nearest coarse tet, extrapolated).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -19,10 +21,14 @@
 
 namespace tb {
 
+/// A solve a model makes for the coarse body (which outlives it).
+using CoarseFemSolve = std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Problem&)>;
+
 class CoarseFem {
  public:
-  /// Throws std::invalid_argument (its message without the model's name).
-  CoarseFem(const Problem& problem, PointInVolume point_rule);
+  /// With `make_solve` empty, the strategy of the parameters coarse_solver and
+  /// coarse_*. Throws std::invalid_argument (its message without the model's name).
+  CoarseFem(const Problem& problem, PointInVolume point_rule, const CoarseFemSolve& make_solve = {});
 
   /// One frame: the coarse displacement under the frame's loads and tools.
   void step(const FrameLoads& loads);

@@ -1,7 +1,7 @@
 #include "pd_model.h"
 
-#include "fine_fem.h"
 #include "pd_solve.h"
+#include "realtime_volume.h"
 
 namespace tb {
 
@@ -9,23 +9,24 @@ ModelInfo pd_model_info() {
   ModelInfo m;
   m.name = "pd";
   m.description =
-      "Projective Dynamics on the fine tet volume: each frame one implicit-Euler step, the global matrix M/h^2 + "
+      "Projective Dynamics on the fine tet volume (or the coarse one with the fine surface embedded: volume): each "
+      "frame one implicit-Euler step, the global matrix M/h^2 + "
       "sum w V G^T G factorised once; local/global iterations on the arap_volume law (Bouaziz et al. 2014) or L-BFGS "
       "with a line search on any law (Liu, Bouaziz and Kavan 2017; default neo_hookean)";
   m.dynamic = true;
   m.parameters = pd_parameters();
+  m.parameters.push_back(volume_parameter());
   m.create = [] {
-    return make_fine_fem("pd", [](const ElasticBody& body, const Problem& p) {
-      return make_pd_solve(body, pd_settings(p.parameters));
-    });
+    return make_on_volume(
+        "pd", [](const ElasticBody& body, const Problem& p) { return make_pd_solve(body, pd_settings(p.parameters)); });
   };
-  describe_fine_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
-  m.tools_how = "the fine-volume nodes of the held surface vertices: their held components are set to the tool's "
-                "position each frame (Dirichlet rows of the global matrix); a sliding plate holds the normal "
-                "component only";
-  m.reactions = "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-                "implicit-Euler balance of the held nodes)";
+  describe_on_volume(
+      m,
+      "their held components are set to the tool's "
+      "position each frame (Dirichlet rows of the global matrix); a sliding plate holds the normal "
+      "component only",
+      "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
+      "implicit-Euler balance of the held nodes)");
   return m;
 }
 

@@ -1,6 +1,6 @@
 #include "vbd_model.h"
 
-#include "fine_fem.h"
+#include "realtime_volume.h"
 #include "vbd_solve.h"
 
 namespace tb {
@@ -9,21 +9,23 @@ ModelInfo vbd_model_info() {
   ModelInfo m;
   m.name = "vbd";
   m.description =
-      "Vertex Block Descent (Chen et al. 2024) on the fine tet volume: each frame one implicit-Euler step by coloured "
+      "Vertex Block Descent (Chen et al. 2024) on the fine tet volume (or the coarse one with the fine surface "
+      "embedded: volume): each frame one implicit-Euler step by coloured "
       "per-vertex 3x3 Newton sweeps on a nonlinear law (default neo_hookean)";
   m.dynamic = true;
   m.parameters = vbd_parameters();
+  m.parameters.push_back(volume_parameter());
   m.create = [] {
-    return make_fine_fem("vbd", [](const ElasticBody& body, const Problem& p) {
+    return make_on_volume("vbd", [](const ElasticBody& body, const Problem& p) {
       return make_vbd_solve(body, vbd_settings(p.parameters));
     });
   };
-  describe_fine_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
-  m.tools_how = "the fine-volume nodes of the held surface vertices: their held components are set to the tool's "
-                "position each frame and never moved by the sweeps; a sliding plate holds the normal component only";
-  m.reactions = "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-                "implicit-Euler balance of the held nodes)";
+  describe_on_volume(
+      m,
+      "their held components are set to the tool's "
+      "position each frame and never moved by the sweeps; a sliding plate holds the normal component only",
+      "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
+      "implicit-Euler balance of the held nodes)");
   return m;
 }
 

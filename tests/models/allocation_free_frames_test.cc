@@ -86,6 +86,11 @@ std::vector<Case> every_model() {
   for (const ModelInfo& m : registered_models())
     if (!reference_solve(m) && m.takes(LoadKind::SurfaceTraction) && m.takes(LoadKind::BodyForce))
       cases.push_back({m.name, nlohmann::json::object(), true});
+  // The real-time steppers on the coarse mesh with the fine surface embedded.
+  for (const char* m : {"vbd", "xpbd_neo", "pd"}) {
+    cases.push_back({m, {{"volume", "coarse_embedded"}}});
+    cases.push_back({m, {{"volume", "coarse_embedded"}}, true});
+  }
   cases.push_back({"condensed", {{"precompute", "on_demand"}}, true});
   cases.push_back({"hybrid", {{"control_points", "exact_fine_fem"}}, true});
   return cases;

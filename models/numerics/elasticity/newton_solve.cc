@@ -11,6 +11,17 @@
 // embedded and hybrid models (coarse_solver newton). Not a real-time strategy: a
 // frame allocates (CHOLMOD's factorisation).
 //
+// With a budget of k Newton iterations a frame (newton_max_iterations_per_frame > 0)
+// it is the real-time form of that coarse solve: a frame continues from the last
+// frame's iterate (warm start, converged or not), takes the whole load and the
+// tools' new positions at once (no increments), and stops after k iterations or at
+// convergence, accepting the iterate it has; the first iteration carries the held
+// values' move as inhomogeneous constraints (the step of predict_interior). Each
+// iteration refactorises the tangent (CHOLMOD), and the frame's relative residual
+// |R_free| / (the forces in play) is reported, so that a reader sees how far from
+// equilibrium the frame's answer is. Under a constant load the frames continue
+// Newton's iteration: k frames of budget 1 are one frame of budget k.
+//
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
 // incremental potential (Kane et al. 2000; Gast et al. 2015; docs/equations.md):
@@ -38,7 +49,8 @@ class NewtonSolve : public ElasticSolve {
     int max_iterations = 50;   ///< per increment, before it is halved
     int load_steps = 1;        ///< increments per solve (halved on failure)
     int max_halvings = 12;
-    double time_step = 0;  ///< > 0: implicit Euler with this step, s (else static)
+    int max_iterations_per_frame = 0;  ///< > 0: a frame does at most this many iterations from the last iterate
+    double time_step = 0;              ///< > 0: implicit Euler with this step, s (else static)
   };
 
   NewtonSolve(const ElasticBody& body, const Options& o)
@@ -92,6 +104,7 @@ class NewtonSolve : public ElasticSolve {
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
     if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
+    if (o_.max_iterations_per_frame > 0) return budgeted(f_free, u);
     // The target: this frame's forces and the prescribed values the caller set in u;
     // the start: the last converged state.
     const Eigen::VectorXd u_target = u, u_start = u_converged_;
@@ -129,9 +142,21 @@ class NewtonSolve : public ElasticSolve {
 
   int last_iterations() const override { return iterations_; }
   nlohmann::json report() const override {
-    return {{"solve", o_.time_step > 0 ? "newton, implicit Euler" : "newton"}, {"material_law", law_.name},         {"newton_tolerance", o_.tolerance},
-            {"load_increments_last_solve", increments_}, {"increment_halvings_last_solve", halvings_},
-            {"newton_iterations_last_solve", iterations_}};
+    nlohmann::json r = {{"solve", o_.time_step > 0 ? "newton, implicit Euler" : "newton"},
+                        {"material_law", law_.name},
+                        {"newton_tolerance", o_.tolerance},
+                        {"load_increments_last_solve", increments_},
+                        {"increment_halvings_last_solve", halvings_},
+                        {"newton_iterations_last_solve", iterations_}};
+    if (o_.max_iterations_per_frame > 0) {
+      r["newton_max_iterations_per_frame"] = o_.max_iterations_per_frame;
+      r["relative_residual_last_solve"] = relative_residual_;
+      r["converged_last_solve"] = converged_;
+      r["largest_relative_residual"] = largest_residual_;
+      if (!stopped_.empty()) r["stopped_early_last_solve"] = stopped_;
+      r["prescribed_move_left_last_solve_m"] = prescribed_left_;
+    }
+    return r;
   }
 
  private:
@@ -140,6 +165,86 @@ class NewtonSolve : public ElasticSolve {
   void set_constrained(const Eigen::VectorXd& from, const Eigen::VectorXd& to, double t, Eigen::VectorXd& u) const {
     for (int d = 0; d < body_.dofs(); ++d)
       if (body_.free_index(d) < 0) u(d) = (1 - t) * from(d) + t * to(d);
+  }
+
+  /// One frame of at most max_iterations_per_frame Newton iterations from the last
+  /// frame's iterate towards equilibrium under f (and the prescribed values the
+  /// caller set in u), each step line-searched as newton() does; the iterate it
+  /// reaches is accepted, converged or not. A step that would leave the law
+  /// undefined, or (the held values in place) raise |R| at every fraction, ends the
+  /// frame early (reported).
+  void budgeted(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
+    const Eigen::VectorXd& u_target = u;
+    Eigen::VectorXd& state = budget_state_;
+    state = u_converged_;
+    iterations_ = 0;
+    increments_ = 1;
+    converged_ = false;
+    stopped_.clear();
+    bool f_int_at_state = false;  // after an accepted step: the line search assembled it there
+    for (;;) {
+      // The held values' move still to make (zero on free dofs) and the residual here.
+      du_p_.setZero(body_.dofs());
+      for (int d = 0; d < body_.dofs(); ++d)
+        if (body_.free_index(d) < 0) du_p_(d) = u_target(d) - state(d);
+      const bool held_in_place = du_p_.lpNorm<Eigen::Infinity>() == 0;
+      if (!f_int_at_state && !assemble(state, false))
+        throw std::logic_error("newton solve: an accepted iterate the law cannot take");
+      residual(f, r_);
+      const double r_norm = r_.norm();
+      relative_residual_ = r_norm / std::max({f.norm(), f_int_.norm(), 1e-300});
+      if (held_in_place && relative_residual_ <= o_.tolerance) {
+        converged_ = true;
+        break;
+      }
+      if (iterations_ == o_.max_iterations_per_frame) break;
+      ++iterations_;
+      assemble(state, true);
+      body_.to_free(K_full_ * du_p_, coupling_);
+      if (!factorize_tangent()) {
+        stopped_ = "tangent not positive definite";
+        break;
+      }
+      du_free_ = cholesky_.solve(-r_ - coupling_);
+      du_full_ = du_p_;
+      body_.to_full(du_free_, du_full_);  // the free entries; the held ones stay du_p
+      if (held_in_place && du_full_.norm() <= o_.tolerance * state.norm()) {
+        state += du_full_;
+        converged_ = true;
+        assemble(state, false);
+        residual(f, r_);
+        relative_residual_ = r_.norm() / std::max({f.norm(), f_int_.norm(), 1e-300});
+        break;
+      }
+      // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and,
+      // the held values in place, lowers |R|.
+      bool accepted = false;
+      for (double step = 1; step > 1.0 / 256 && !accepted; step /= 2) {
+        u_try_ = state + step * du_full_;
+        if (!assemble(u_try_, false)) continue;
+        if (held_in_place) {
+          residual(f, r_);
+          accepted = r_.norm() < r_norm;
+        } else {
+          accepted = true;
+        }
+      }
+      if (!accepted) {
+        stopped_ = held_in_place ? "no decrease of the residual along the Newton step"
+                                 : "the held values' move leaves the law undefined along the step";
+        assemble(state, false);
+        break;
+      }
+      state = u_try_;
+      f_int_at_state = true;
+    }
+    // f_int_ is at `state` here.
+    prescribed_left_ = du_p_.lpNorm<Eigen::Infinity>();
+    largest_residual_ = std::max(largest_residual_, relative_residual_);
+    u = state;
+    u_converged_ = state;
+    f_int_solution_ = f_int_;
+    f_converged_ = f;
   }
 
   /// Where the increment moves prescribed dofs (a plate, a grasp), the free dofs of
@@ -196,7 +301,8 @@ class NewtonSolve : public ElasticSolve {
     if (o_.time_step > 0) {  // the inertia of implicit Euler, around the last step's state
       f_int_.array() += inertia_.array() * (u - u_converged_ - o_.time_step * velocity_).array();
       if (tangent)
-        for (size_t d = 0; d < diagonal_.size(); ++d) K_full_.valuePtr()[diagonal_[d]] += inertia_(static_cast<Eigen::Index>(d));
+        for (size_t d = 0; d < diagonal_.size(); ++d)
+          K_full_.valuePtr()[diagonal_[d]] += inertia_(static_cast<Eigen::Index>(d));
     }
     return true;
   }
@@ -260,40 +366,57 @@ class NewtonSolve : public ElasticSolve {
   Eigen::VectorXd velocity_;   ///< implicit Euler: v_n
   std::vector<int> diagonal_;  ///< implicit Euler: each dof's diagonal entry in K_full_'s values
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
+  // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
+  double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0;
+  bool converged_ = false;
+  std::string stopped_;
+  Eigen::VectorXd budget_state_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
 };
 
 }  // namespace
 
 ElasticSolveInfo newton_solve_info() {
-  return {"newton",
-          "static nonlinear FEM: Newton on f_int(u) = f for the material law of material_law, CHOLMOD on the "
-          "tangent, load increments from the last converged state (a reference solve, not real time)",
-          [](const std::string& prefix) {
-            std::vector<std::string> laws;
-            for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
-            using P = ParameterSpec;
-            return std::vector<ParameterSpec>{
-                P::choice(prefix + "material_law", laws, "neo_hookean",
-                          "of the newton solver: the material law (numerics/materials), with the Lame parameters of "
-                          "the scenario's E and nu"),
-                P::number(prefix + "newton_tolerance", 1e-10, 1e-15, 1e-3,
-                          "of the newton solver: converged when |R| <= this times the norm of the forces in play, or a Newton "
-                          "step moves u by at most this times |u|"),
-                P::whole_number(prefix + "newton_load_steps", 1, 1, 10000,
-                                "of the newton solver: load increments per frame from the last converged state "
-                                "(each halved when Newton fails)")};
-          },
-          [](const ElasticBody& b, const Parameters& p, const std::string& prefix, const ElasticSolveContext&) {
-            NewtonSolve::Options o;
-            o.law = p.choice(prefix + "material_law");
-            o.tolerance = p.number(prefix + "newton_tolerance");
-            o.load_steps = p.integer(prefix + "newton_load_steps");
-            return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
-          }};
+  return {
+      "newton",
+      "static nonlinear FEM: Newton on f_int(u) = f for the material law of material_law, CHOLMOD on the "
+      "tangent, load increments from the last converged state (a reference solve, not real time)",
+      [](const std::string& prefix) {
+        std::vector<std::string> laws;
+        for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
+        using P = ParameterSpec;
+        return std::vector<ParameterSpec>{
+            P::choice(prefix + "material_law", laws, "neo_hookean",
+                      "of the newton solver: the material law (numerics/materials), with the Lame parameters of "
+                      "the scenario's E and nu"),
+            P::number(
+                prefix + "newton_tolerance", 1e-10, 1e-15, 1e-3,
+                "of the newton solver: converged when |R| <= this times the norm of the forces in play, or a Newton "
+                "step moves u by at most this times |u|"),
+            P::whole_number(prefix + "newton_load_steps", 1, 1, 10000,
+                            "of the newton solver: load increments per frame from the last converged state "
+                            "(each halved when Newton fails)"),
+            P::whole_number(prefix + "newton_max_iterations_per_frame", 0, 0, 1000,
+                            "of the newton solver: 0, each frame to convergence; k > 0, a frame does at most k "
+                            "Newton iterations from the last frame's iterate and accepts where it gets (its "
+                            "residual reported), the whole load at once")};
+      },
+      [](const ElasticBody& b, const Parameters& p, const std::string& prefix, const ElasticSolveContext&) {
+        NewtonSolve::Options o;
+        o.law = p.choice(prefix + "material_law");
+        o.tolerance = p.number(prefix + "newton_tolerance");
+        o.load_steps = p.integer(prefix + "newton_load_steps");
+        o.max_iterations_per_frame = p.integer(prefix + "newton_max_iterations_per_frame");
+        if (o.max_iterations_per_frame > 0 && o.load_steps > 1)
+          throw std::invalid_argument(prefix + "newton_max_iterations_per_frame " +
+                                      std::to_string(o.max_iterations_per_frame) +
+                                      ": a budgeted frame takes the whole load at once, so " + prefix +
+                                      "newton_load_steps must be 1, not " + std::to_string(o.load_steps));
+        return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
+      }};
 }
 
 std::unique_ptr<ElasticSolve> make_implicit_euler_solve(const ElasticBody& body, const std::string& law,
-                                                       double tolerance, double time_step) {
+                                                        double tolerance, double time_step) {
   if (!(time_step > 0)) throw std::invalid_argument("implicit Euler: time_step must be positive");
   NewtonSolve::Options o;
   o.law = law;

@@ -1,0 +1,59 @@
+#include "coarse_embedded.h"
+
+#include <stdexcept>
+
+#include "coarse_embedding.h"
+
+namespace tb {
+namespace {
+
+class CoarseEmbedded : public Model {
+ public:
+  CoarseEmbedded(std::string name, CoarseFemSolve make_solve)
+      : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
+
+  void setup(const Problem& p) override {
+    const HybridMesh& h = *p.mesh;
+    if (h.coarse_volume.T.rows() == 0) throw std::invalid_argument(name_ + ": the scenario provides no coarse volume");
+    try {
+      coarse_ = std::make_unique<CoarseFem>(p, PointInVolume::Nearest, make_solve_);
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();  // a stepper's own errors already name the model
+      throw std::invalid_argument(what.rfind(name_ + ": ", 0) == 0 ? what : name_ + ": coarse mesh: " + what);
+    }
+    embedding_ = embed_vertices(h.fine_surface.V, h.coarse_volume);
+    u_ = Displacements::Zero(h.fine_surface.V.rows(), 3);
+  }
+
+  void step(const FrameLoads& loads) override {
+    coarse_->step(loads);
+    interpolate_embedded(embedding_, coarse_->body().mesh().T, coarse_->displacement(), u_);
+  }
+
+  const Displacements& surface_displacement() const override { return u_; }
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &coarse_->reactions(); }
+  const Points* probe_displacements() const override { return &coarse_->probe_displacements(); }
+  int last_iterations() const override { return coarse_->last_iterations(); }
+  // How far vertices lie outside the coarse mesh is the mesh's summary.json
+  // "max_embedding_distance" (written beside every result as run.json "mesh").
+  nlohmann::json report() const override {
+    nlohmann::json r = nlohmann::json::object();
+    coarse_->report(r);
+    return r;
+  }
+
+ private:
+  std::string name_;
+  CoarseFemSolve make_solve_;
+  std::unique_ptr<CoarseFem> coarse_;
+  std::vector<ControlPoint> embedding_;
+  Displacements u_;
+};
+
+}  // namespace
+
+std::unique_ptr<Model> make_coarse_embedded(const std::string& model_name, CoarseFemSolve make_solve) {
+  return std::make_unique<CoarseEmbedded>(model_name, std::move(make_solve));
+}
+
+}  // namespace tb

@@ -1,0 +1,64 @@
+#include "realtime_volume.h"
+
+#include "coarse_embedded.h"
+
+namespace tb {
+namespace {
+
+class OnVolume : public Model {
+ public:
+  OnVolume(std::string name, FineFemSolve make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
+
+  void setup(const Problem& p) override {
+    volume_ = p.parameters.choice("volume");
+    inner_ =
+        volume_ == "coarse_embedded" ? make_coarse_embedded(name_, make_solve_) : make_fine_fem(name_, make_solve_);
+    inner_->setup(p);
+  }
+  void step(const FrameLoads& loads) override { inner_->step(loads); }
+  const Displacements& surface_displacement() const override { return inner_->surface_displacement(); }
+  const std::vector<Eigen::Vector3d>* reaction_forces() const override { return inner_->reaction_forces(); }
+  const std::vector<ToolContact>* tool_contacts() const override { return inner_->tool_contacts(); }
+  const Points* probe_displacements() const override { return inner_->probe_displacements(); }
+  int last_iterations() const override { return inner_->last_iterations(); }
+  nlohmann::json report() const override {
+    nlohmann::json r = inner_->report();
+    r["volume"] = volume_;
+    return r;
+  }
+  const std::vector<PhaseTime>& last_phase_times() const override { return inner_->last_phase_times(); }
+
+ private:
+  std::string name_;
+  FineFemSolve make_solve_;
+  std::string volume_;
+  std::unique_ptr<Model> inner_;
+};
+
+}  // namespace
+
+ParameterSpec volume_parameter() {
+  return ParameterSpec::choice(
+      "volume", {"fine", "coarse_embedded"}, "fine",
+      "the tet mesh the stepper runs on: fine (the fine tet volume, its surface nodes the fine surface) or "
+      "coarse_embedded (the coarse tet volume, every fine-surface vertex moved by its barycentric weights in the "
+      "nearest coarse tet, as the embedded model)");
+}
+
+std::unique_ptr<Model> make_on_volume(const std::string& model_name, FineFemSolve make_solve) {
+  return std::make_unique<OnVolume>(model_name, std::move(make_solve));
+}
+
+void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const std::string& reactions) {
+  describe_fine_fem(m);
+  ModelInfo coarse;
+  describe_coarse_fem(coarse);
+  m.tools = coarse.tools;  // no sphere on either volume: a stepper has no contact set
+  m.tools_how = "volume fine: " + fine_tools_how +
+                "; volume coarse_embedded: the same on the coarse nodes nearest the held surface vertices (a tool "
+                "smaller than the coarse spacing becomes a point-like hold)";
+  m.reactions = reactions + " (the fine or the coarse volume's nodes)";
+  m.probes = "volume fine: " + m.probes + "; volume coarse_embedded: " + coarse.probes;
+}
+
+}  // namespace tb
