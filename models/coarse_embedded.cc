@@ -1,5 +1,6 @@
 #include "coarse_embedded.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "coarse_embedding.h"
@@ -26,9 +27,16 @@ class CoarseEmbedded : public Model {
   }
 
   void step(const FrameLoads& loads) override {
+    using Clock = std::chrono::steady_clock;
+    using Ms = std::chrono::duration<double, std::milli>;
+    const auto t0 = Clock::now();
     coarse_->step(loads);
+    const auto t1 = Clock::now();
     interpolate_embedded(embedding_, coarse_->body().mesh().T, coarse_->displacement(), u_);
+    phases_[0].ms = Ms(t1 - t0).count();
+    phases_[1].ms = Ms(Clock::now() - t1).count();
   }
+  const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
 
   const Displacements& surface_displacement() const override { return u_; }
   const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &coarse_->reactions(); }
@@ -48,6 +56,7 @@ class CoarseEmbedded : public Model {
   std::unique_ptr<CoarseFem> coarse_;
   std::vector<ControlPoint> embedding_;
   Displacements u_;
+  std::vector<PhaseTime> phases_{{phase::kCoarseSolve}, {phase::kMapping}};  ///< the coarse step; the embedding
 };
 
 }  // namespace

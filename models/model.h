@@ -42,8 +42,8 @@ using Displacements = Points;
 /// runner writes each one's median and p95 to timings.json.
 namespace phase {
 inline constexpr const char* kSolve = "solve";               ///< a static model's solve (fem)
-inline constexpr const char* kCoarseSolve = "coarse_solve";  ///< hybrid: coarse K u = f, eq. (11)
-inline constexpr const char* kMapping = "mapping";           ///< hybrid: control points from the coarse u, eq. (33)
+inline constexpr const char* kCoarseSolve = "coarse_solve";  ///< hybrid: coarse K u = f, eq. (11); embedded: its coarse step
+inline constexpr const char* kMapping = "mapping";           ///< hybrid: control points from the coarse u, eq. (33); embedded: the surface
 inline constexpr const char* kProjection = "projection";     ///< PBD: pins (eq. 33) and constraint sweeps
 inline constexpr const char* kIntegration = "integration";   ///< PBD: eqs. (31)-(32), (34)-(35), displacements
 }  // namespace phase

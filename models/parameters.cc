@@ -73,6 +73,7 @@ Parameters resolve_parameters(const std::vector<ParameterSpec>& specs, const nlo
     const ParameterSpec* spec = nullptr;
     for (const auto& s : specs)
       if (s.name == key) spec = &s;
+    if (spec) p.mark_given(key);
     if (!spec) {
       std::ostringstream known;
       for (const auto& s : specs) known << (&s == &specs.front() ? "" : ", ") << s.name;

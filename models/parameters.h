@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -40,10 +41,14 @@ class Parameters {
   nlohmann::json to_json() const;
   void set_number(const std::string& name, double v) { numbers_[name] = v; }
   void set_choice(const std::string& name, const std::string& v) { choices_[name] = v; }
+  /// Whether the scenario gave this parameter (resolve_parameters), rather than its default.
+  bool given(const std::string& name) const { return given_.count(name) > 0; }
+  void mark_given(const std::string& name) { given_.insert(name); }
 
  private:
   std::map<std::string, double> numbers_;
   std::map<std::string, std::string> choices_;
+  std::set<std::string> given_;
 };
 
 /// Defaults overridden by `given` (a JSON object). `where` prefixes error messages,

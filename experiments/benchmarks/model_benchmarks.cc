@@ -114,8 +114,8 @@ struct FineSolver {
 FineSolver fine_solver(const HybridMesh& h, int64_t solver) {
   FineSolver f;
   f.body = std::make_unique<ElasticBody>(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V));
-  const nlohmann::json given = {{"solver", solver == 0 ? "direct" : "iterative"},
-                                {"preconditioner", solver == 2 ? "two_level" : "ic"}};
+  nlohmann::json given = {{"solver", solver == 0 ? "direct" : "iterative"}};
+  if (solver != 0) given["preconditioner"] = solver == 2 ? "two_level" : "ic";
   f.solve = make_elastic_solve(
       *f.body, resolve_parameters(elastic_solve_parameters("", "direct", "ic"), given, "benchmark"), "",
       {&h.coarse_volume});

@@ -2,6 +2,7 @@
 // file and one line in elastic_solves().
 #include "elastic_solve.h"
 
+#include <set>
 #include <stdexcept>
 
 namespace tb {
@@ -43,6 +44,16 @@ std::vector<ParameterSpec> elastic_solve_parameters(const std::string& prefix, c
 std::unique_ptr<ElasticSolve> make_elastic_solve(const ElasticBody& body, const Parameters& p,
                                                  const std::string& prefix, const ElasticSolveContext& context) {
   const std::string& name = p.choice(prefix + "solver");
+  // A parameter of another strategy only, given explicitly, would be ignored: say so.
+  std::set<std::string> own;
+  for (const auto& s : elastic_solves())
+    if (s.name == name)
+      for (const ParameterSpec& q : s.parameters(prefix)) own.insert(q.name);
+  for (const auto& s : elastic_solves())
+    for (const ParameterSpec& q : s.parameters(prefix))
+      if (s.name != name && !own.count(q.name) && p.given(q.name))
+        throw std::invalid_argument(q.name + " is a parameter of the " + s.name + " solver; " + prefix + "solver is " +
+                                    name);
   for (const auto& s : elastic_solves())
     if (s.name == name) return s.create(body, p, prefix, context);
   std::string known;

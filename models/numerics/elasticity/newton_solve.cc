@@ -155,6 +155,12 @@ class NewtonSolve : public ElasticSolve {
       r["largest_relative_residual"] = largest_residual_;
       if (!stopped_.empty()) r["stopped_early_last_solve"] = stopped_;
       r["prescribed_move_left_last_solve_m"] = prescribed_left_;
+      // Over the run: a frame in the middle that stopped or left a tool short is
+      // otherwise invisible once a later frame recovers.
+      r["frames_not_converged"] = frames_not_converged_;
+      r["frames_stopped_early"] = frames_stopped_early_;
+      r["largest_prescribed_move_left_m"] = largest_prescribed_left_;
+      r["inverted_tets_last_solve"] = inverted_tets_;
     }
     return r;
   }
@@ -172,10 +178,12 @@ class NewtonSolve : public ElasticSolve {
   /// caller set in u), each step line-searched as newton() does; the iterate it
   /// reaches is accepted, converged or not. A step that would leave the law
   /// undefined, or (the held values in place) raise |R| at every fraction, ends the
-  /// frame early (reported).
+  /// frame early (reported, and counted over the run). A step or residual that is not
+  /// finite is an error: nothing to accept.
   void budgeted(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
     const Eigen::VectorXd& u_target = u;
-    Eigen::VectorXd& state = budget_state_;
+    // u_converged_ is, under a budget, the last frame's accepted iterate (converged or not).
+    Eigen::VectorXd& state = last_iterate_;
     state = u_converged_;
     iterations_ = 0;
     increments_ = 1;
@@ -192,7 +200,10 @@ class NewtonSolve : public ElasticSolve {
         throw std::logic_error("newton solve: an accepted iterate the law cannot take");
       residual(f, r_);
       const double r_norm = r_.norm();
-      relative_residual_ = r_norm / std::max({f.norm(), f_int_.norm(), 1e-300});
+      relative_residual_ = relative_to_forces(r_norm, f);
+      if (!std::isfinite(relative_residual_))
+        throw std::runtime_error("newton solve (" + std::string(law_.name) +
+                                 "): the residual is not finite after a budgeted Newton step");
       if (held_in_place && relative_residual_ <= o_.tolerance) {
         converged_ = true;
         break;
@@ -206,23 +217,23 @@ class NewtonSolve : public ElasticSolve {
         break;
       }
       du_free_ = cholesky_.solve(-r_ - coupling_);
+      if (!du_free_.allFinite())
+        throw std::runtime_error("newton solve (" + std::string(law_.name) + "): the Newton step is not finite");
       du_full_ = du_p_;
       body_.to_full(du_free_, du_full_);  // the free entries; the held ones stay du_p
-      if (held_in_place && du_full_.norm() <= o_.tolerance * state.norm()) {
-        state += du_full_;
-        converged_ = true;
-        assemble(state, false);
-        residual(f, r_);
-        relative_residual_ = r_.norm() / std::max({f.norm(), f_int_.norm(), 1e-300});
-        break;
-      }
       // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and,
-      // the held values in place, lowers |R|.
+      // the held values in place, lowers |R| (a step too small to matter is taken
+      // as convergence, as newton() does). A full step puts the held values exactly
+      // on their targets: state + (target - state) may miss them by an ulp.
+      const bool negligible = held_in_place && du_full_.norm() <= o_.tolerance * state.norm();
       bool accepted = false;
       for (double step = 1; step > 1.0 / 256 && !accepted; step /= 2) {
         u_try_ = state + step * du_full_;
+        if (step == 1)
+          for (int d = 0; d < body_.dofs(); ++d)
+            if (body_.free_index(d) < 0) u_try_(d) = u_target(d);
         if (!assemble(u_try_, false)) continue;
-        if (held_in_place) {
+        if (held_in_place && !negligible) {
           residual(f, r_);
           accepted = r_.norm() < r_norm;
         } else {
@@ -237,14 +248,35 @@ class NewtonSolve : public ElasticSolve {
       }
       state = u_try_;
       f_int_at_state = true;
+      if (negligible) {
+        converged_ = true;
+        residual(f, r_);
+        relative_residual_ = relative_to_forces(r_.norm(), f);
+        break;
+      }
     }
     // f_int_ is at `state` here.
     prescribed_left_ = du_p_.lpNorm<Eigen::Infinity>();
+    if (!converged_) {
+      // du_p_ was computed before the frame's last step: recompute what is left.
+      prescribed_left_ = 0;
+      for (int d = 0; d < body_.dofs(); ++d)
+        if (body_.free_index(d) < 0) prescribed_left_ = std::max(prescribed_left_, std::abs(u_target(d) - state(d)));
+    }
     largest_residual_ = std::max(largest_residual_, relative_residual_);
+    largest_prescribed_left_ = std::max(largest_prescribed_left_, prescribed_left_);
+    frames_not_converged_ += converged_ ? 0 : 1;
+    frames_stopped_early_ += stopped_.empty() ? 0 : 1;
     u = state;
     u_converged_ = state;
     f_int_solution_ = f_int_;
     f_converged_ = f;
+  }
+
+  /// |R| relative to the forces in play: the external ones, or (under prescribed
+  /// displacements alone) the internal ones.
+  double relative_to_forces(double r_norm, const Eigen::VectorXd& f) const {
+    return r_norm / std::max({f.norm(), f_int_.norm(), 1e-300});
   }
 
   /// Where the increment moves prescribed dofs (a plate, a grasp), the free dofs of
@@ -283,13 +315,17 @@ class NewtonSolve : public ElasticSolve {
   bool assemble(const Eigen::VectorXd& u, bool tangent) {
     const TetMesh& m = body_.mesh();
     f_int_.setZero(body_.dofs());
+    inverted_tets_ = 0;
     if (tangent) std::fill(K_full_.valuePtr(), K_full_.valuePtr() + K_full_.nonZeros(), 0.0);
     for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
       const TetShape& s = shapes_[static_cast<size_t>(t)];
       Eigen::Matrix<double, 3, 4> x;
       for (int a = 0; a < 4; ++a) x.col(a) = m.V.row(m.T(t, a)).transpose() + u.segment<3>(3 * m.T(t, a));
       const Eigen::Matrix3d F = tet_deformation_gradient(s, x);
-      if (!law_.defined_when_inverted && !(F.determinant() > 0)) return false;
+      if (!(F.determinant() > 0)) {
+        if (!law_.defined_when_inverted) return false;
+        ++inverted_tets_;
+      }
       const Eigen::Matrix<double, 9, 12> G = tet_gradient_operator(s);
       const Eigen::Matrix<double, 12, 1> fe = s.volume * (G.transpose() * flatten(law_.first_piola(F, lame_)));
       for (int a = 0; a < 4; ++a) f_int_.segment<3>(3 * m.T(t, a)) += fe.segment<3>(3 * a);
@@ -367,10 +403,12 @@ class NewtonSolve : public ElasticSolve {
   std::vector<int> diagonal_;  ///< implicit Euler: each dof's diagonal entry in K_full_'s values
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
   // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
-  double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0;
+  double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0, largest_prescribed_left_ = 0;
   bool converged_ = false;
   std::string stopped_;
-  Eigen::VectorXd budget_state_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
+  long frames_not_converged_ = 0, frames_stopped_early_ = 0;
+  int inverted_tets_ = 0;  ///< tets with det F <= 0 at the last state assembled (laws defined there)
+  Eigen::VectorXd last_iterate_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
 };
 
 }  // namespace

@@ -63,11 +63,11 @@ std::vector<CoarseStepper> coarse_steppers() {
   // Long steps (0.5 s against the cube's periods of milliseconds: inertia damps out
   // in a few frames) for the implicit steppers; XPBD at the 10 ms and 40 sub-steps
   // whose bias realtime_solvers_test.cc measured on the same cube (1.2e-3, 1.5e-3).
-  return {{"vbd", {{"volume", "coarse_embedded"}, {"time_step", 0.5}, {"iterations", 50}}, "neo_hookean", 1e-6, 2000},
+  return {{"vbd", {{"volume", "coarse_embedded"}, {"time_step", 0.5}, {"iterations", 50}}, "neo_hookean", 1e-9, 2000},
           {"pd",
            {{"volume", "coarse_embedded"}, {"time_step", 0.5}, {"iterations", 20}, {"tolerance", 0}},
            "neo_hookean",
-           1e-6,
+           1e-9,
            2000},
           {"xpbd_neo",
            {{"volume", "coarse_embedded"}, {"time_step", 0.01}, {"substeps", 40}},
