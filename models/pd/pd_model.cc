@@ -20,12 +20,14 @@ ModelInfo pd_model_info() {
     });
   };
   describe_fine_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices: their held components are set to the tool's "
                 "position each frame (Dirichlet rows of the global matrix); a sliding plate holds the normal "
-                "component only";
+                "component only; a sphere: the linearised gaps of the surface nodes in it as constraints of the global "
+                "step (multipliers by a Schur complement on A's factor; L-BFGS history dropped while any is in contact)";
   m.reactions = "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-                "implicit-Euler balance of the held nodes)";
+                "implicit-Euler balance of the held nodes); a sphere: the normal part of that balance at its contact "
+                "nodes";
   return m;
 }
 

@@ -19,11 +19,14 @@ ModelInfo vbd_model_info() {
     });
   };
   describe_fine_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices: their held components are set to the tool's "
-                "position each frame and never moved by the sweeps; a sliding plate holds the normal component only";
+                "position each frame and never moved by the sweeps; a sliding plate holds the normal component only; a "
+                "sphere: the linearised gap as a constraint of each surface vertex's 3x3 Newton step (a projection in "
+                "the metric of its block, not a penalty)";
   m.reactions = "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-                "implicit-Euler balance of the held nodes)";
+                "implicit-Euler balance of the held nodes); a sphere: the normal part of that balance at its contact "
+                "nodes";
   return m;
 }
 

@@ -19,12 +19,14 @@ ModelInfo xpbd_neo_model_info() {
     });
   };
   describe_fine_fem(m);
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices: zero inverse mass in their held components, "
                 "moved linearly to the tool's position over the frame's sub-steps; a sliding plate holds the normal "
-                "component only";
+                "component only; a sphere: a collision projection of the surface nodes inside it after each sweep "
+                "(Mueller et al. 2007)";
   m.reactions = "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs (f_int from the xpbd_neo_hookean law the "
-                "constraints minimise), summed per tool and over the support";
+                "constraints minimise), summed per tool and over the support; a sphere: the normal part of that balance "
+                "at its contact nodes";
   return m;
 }
 

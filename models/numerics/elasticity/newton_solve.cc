@@ -243,6 +243,7 @@ class NewtonSolve : public ElasticSolve {
     // The scale of the forces in play: the external ones, or (under prescribed
     // displacements alone) the internal ones the first state carries, or the contact's.
     const double scale0 = std::max({f.norm(), f_int_.norm(), 1e-300});
+    if (contact_) update_active_set(u);  // the nodes the sphere's move put inside join at once
     double merit = contact_ ? contact_terms(u, r) : r.norm();
     for (int it = 0;; ++it) {
       const double r_norm = contact_ ? residual_c_.norm() : r.norm();
@@ -281,8 +282,8 @@ class NewtonSolve : public ElasticSolve {
       // Converged also when the step no longer moves u: near rest a law's stress is
       // a difference of terms of the size of mu (neo-Hookean: mu (F - F^-T)), which
       // leaves |R| a round-off floor that a small load's tolerance can sit below.
-      // With spheres, |u| counts at least the smallest radius: a body at rest under no
-      // load (a sphere not yet touching) has |R| at round-off and |u| = 0.
+      // With spheres, a body at rest under no load (a sphere not yet touching) has |R|
+      // and |u| at round-off: |u| counts at least the smallest radius.
       const double u_scale = contact_ ? std::max(u.norm(), spheres_->radii().minCoeff()) : u.norm();
       if (du_full.norm() <= o_.tolerance * u_scale) {
         u += du_full;
