@@ -390,8 +390,10 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
       }
       if (info.name == "fem")
         EXPECT_LE(on.points, on_sphere) << info.name;
-      else
+      else if (info.name == "pbd" || info.name == "hybrid")
         EXPECT_EQ(on.points, within) << info.name;
+      else  // the real-time FEMs: the nodes their last constraint step acted on, each on the sphere
+        EXPECT_LE(on.points, within) << info.name;
     }
     // The area: the contact vertices' vertex areas, of the order of the patch the
     // sphere pressed 1 cm cuts from the top (2 pi R d, the cap's area; Hertz's pi R d).
@@ -425,7 +427,7 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
     EXPECT_EQ(off.area, 0) << info.name;
     EXPECT_EQ((*m->reaction_forces())[0].norm(), 0) << info.name;
   }
-  EXPECT_EQ(models, 3) << "fem, pbd, hybrid";
+  EXPECT_EQ(models, 6) << "fem, pbd, hybrid, vbd, xpbd_neo, pd";
 }
 
 TEST(SphereContact, ModelsWithoutItRefuseItBeforeSetup) {
