@@ -166,6 +166,7 @@ class PdSolve : public TetTimeStepper<Law> {
         if (!quasi_newton || sufficient_decrease(energy, trial_energy, step, slope)) break;
         if (halving == kMaxHalvings) {
           ++failures_;
+          if (contact) mark_contacts();
           return;
         }
         step /= 2;
@@ -176,9 +177,12 @@ class PdSolve : public TetTimeStepper<Law> {
       gradient_.swap(trial_gradient_);
       energy = trial_energy;
     }
-    if (contact) {
-      for (const PdContact& c : pd_contacts_) this->mark_contact(c.node, c.sphere, c.mu >= 0);
-    }
+    if (contact) mark_contacts();
+  }
+
+  /// The contact set's nodes with a non-negative multiplier are the sphere's contacts.
+  void mark_contacts() {
+    for (const PdContact& c : pd_contacts_) this->mark_contact(c.node, c.sphere, c.mu >= 0);
   }
 
   // --- Spheres: the linearised gaps as constraints of the global step ---

@@ -520,8 +520,10 @@ TEST(SphereContact, ASphereOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesO
     const Tool sphere = Tool::sphere(start, R);
     for (const ModelInfo& info : registered_models()) {
       if (!info.takes(ToolKind::Sphere)) continue;
-      // The tet steppers with a 50 ms step over 100 frames (as in the test above).
-      const bool tet_stepper = info.name == "vbd" || info.name == "xpbd_neo" || info.name == "pd";
+      // VBD and XPBD with a 50 ms step over 100 frames (as in the test above); PD keeps its
+      // 10 ms: with 50 ms and 10 iterations a frame its gaps did not close on the liver and
+      // the L-block (2.6 and 4.6 mm inside at the end).
+      const bool tet_stepper = info.name == "vbd" || info.name == "xpbd_neo";
       const nlohmann::json given = tet_stepper ? nlohmann::json{{"time_step", 0.05}} : nlohmann::json::object();
       Problem p{mesh, Material{}, LoadCase{support, {}, {sphere}}, resolve_parameters(info.parameters, given, info.name),
                 Points()};
