@@ -42,7 +42,12 @@ class FineFem : public Model {
       frame_ = std::make_unique<ElasticFrame>(*body_, *loads_, *solve_);
       probes_ = place_probes(p.probes, h.fine_volume, "fine volume", false);
       if (!spheres_.empty()) {
-        contact_ = std::make_unique<SphereContact>(*body_, *solve_, h.fine_surface_to_volume);
+        // A nonlinear solve that takes spheres enforces them itself (the Newton solve's
+        // active set, the real-time steppers'); a linear one gets the active set on K.
+        if (solve_->takes_spheres())
+          solve_->enable_spheres(h.fine_surface_to_volume);
+        else
+          contact_ = std::make_unique<SphereContact>(*body_, *solve_, h.fine_surface_to_volume);
         area_ = std::make_unique<ContactArea>(h.fine_surface);
       }
     } catch (const std::invalid_argument& e) {
@@ -63,38 +68,29 @@ class FineFem : public Model {
   void step(const FrameLoads& loads) override {
     const auto start = std::chrono::steady_clock::now();
     for (size_t g = 0; g < group_of_tool_.size(); ++g) group_values_[g] = loads.tool_values[group_of_tool_[g].first];
+    for (size_t k = 0; k < spheres_.size(); ++k)
+      centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
+    SphereObstacles* own = solve_->spheres();
+    if (own) own->set(centres_, radii_);
     frame_->step(loads.values, group_values_, u_);
-    if (contact_) {
-      for (size_t k = 0; k < spheres_.size(); ++k)
-        centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
-      contact_->solve(centres_, radii_, u_);
-    }
+    if (contact_) contact_->solve(centres_, radii_, u_);
     phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
       surface_u_.row(static_cast<Eigen::Index>(v)) = u_.segment<3>(3 * surface_to_volume_[v]).transpose();
-    if (!contact_) {
+    if (contact_)
+      measure_spheres(*contact_, loads, nullptr);
+    else if (own)
+      measure_spheres(*own, loads, solve_->internal_force());
+    else {
       for (const auto& [t, g] : group_of_tool_) reactions_[t] = frame_->group_forces()[g];
       reactions_.back() = frame_->support_force();
-    } else {
-      // The contact forces moved the held nodes' and the support's reactions: again at the final u.
-      loads_->assemble_full(loads.values, f_full_);
-      for (const auto& [node, f] : contact_->node_forces()) f_full_.segment<3>(3 * node) += f;
-      body_->reactions(u_, f_full_, group_forces_, reactions_.back());
-      for (const auto& [t, g] : group_of_tool_) reactions_[t] = group_forces_[g];
-      for (size_t k = 0; k < spheres_.size(); ++k) {
-        reactions_[spheres_[k]] = contact_->forces()[k];
-        ToolContact& c = contacts_[spheres_[k]];
-        c.points = static_cast<int>(contact_->contact_vertices()[k].size());
-        c.area = area_->area(contact_->contact_vertices()[k]);
-        c.max_penetration = contact_->penetration()[k];
-      }
     }
     interpolate_probes(probes_, body_->mesh().T, u_, probe_u_);
   }
 
   const std::vector<Eigen::Vector3d>* reaction_forces() const override { return &reactions_; }
-  const std::vector<ToolContact>* tool_contacts() const override { return contact_ ? &contacts_ : nullptr; }
+  const std::vector<ToolContact>* tool_contacts() const override { return spheres_.empty() ? nullptr : &contacts_; }
   const Points* probe_displacements() const override { return &probe_u_; }
 
   const Displacements& surface_displacement() const override { return surface_u_; }
@@ -107,6 +103,25 @@ class FineFem : public Model {
   const std::vector<PhaseTime>& last_phase_times() const override { return phases_; }
 
  private:
+  /// The spheres' forces and contacts from `contact` (SphereContact or a solve's
+  /// SphereObstacles: the same accessors), and the reactions of the held nodes and
+  /// the support, which the contact forces moved, again at the final u (with a
+  /// nonlinear solve's internal force).
+  template <class Contact>
+  void measure_spheres(const Contact& contact, const FrameLoads& loads, const Eigen::VectorXd* internal_force) {
+    loads_->assemble_full(loads.values, f_full_);
+    for (const auto& [node, f] : contact.node_forces()) f_full_.segment<3>(3 * node) += f;
+    body_->reactions(u_, f_full_, group_forces_, reactions_.back(), internal_force);
+    for (const auto& [t, g] : group_of_tool_) reactions_[t] = group_forces_[g];
+    for (size_t k = 0; k < spheres_.size(); ++k) {
+      reactions_[spheres_[k]] = contact.forces()[k];
+      ToolContact& c = contacts_[spheres_[k]];
+      c.points = static_cast<int>(contact.contact_vertices()[k].size());
+      c.area = area_->area(contact.contact_vertices()[k]);
+      c.max_penetration = contact.penetration()[k];
+    }
+  }
+
   std::string name_;
   FineFemSolve make_solve_;
   std::vector<PhaseTime> phases_{{phase::kSolve}};
@@ -141,8 +156,9 @@ void describe_fine_fem(ModelInfo& m) {
   m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
   m.tools_how = "the fine-volume nodes of the held surface vertices, as Dirichlet values (K_ff u_f = f_f - K_fp u_p); "
                 "a sliding plate holds the normal component only (the corotational solver: on its rotated system); a "
-                "sphere: an active set of normal contact multipliers on the factorised K (direct or iterative solver "
-                "only)";
+                "sphere: an active set of normal contact multipliers on the factorised K (direct or iterative solver), "
+                "or a primal-dual active set on the linearised gaps inside Newton (newton solver, any law; not "
+                "corotational)";
   m.reactions = "f - K u at the held dofs (f - f_int(u) for the corotational and Newton solves), summed per tool "
                 "and over the support (static equilibrium); a sphere: minus the sum of its contact multipliers "
                 "lambda_i n_i";

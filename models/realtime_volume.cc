@@ -1,5 +1,7 @@
 #include "realtime_volume.h"
 
+#include <stdexcept>
+
 #include "coarse_embedded.h"
 
 namespace tb {
@@ -11,6 +13,12 @@ class OnVolume : public Model {
 
   void setup(const Problem& p) override {
     volume_ = p.parameters.choice("volume");
+    if (volume_ == "coarse_embedded")
+      for (const Tool& tool : p.load_case.tools)
+        if (tool.kind == ToolKind::Sphere)
+          throw std::invalid_argument(name_ +
+                                      ": volume coarse_embedded takes no sphere (the coarse stepper has no contact "
+                                      "set on the embedded surface); use volume fine");
     inner_ =
         volume_ == "coarse_embedded" ? make_coarse_embedded(name_, make_solve_) : make_fine_fem(name_, make_solve_);
     inner_->setup(p);
@@ -49,15 +57,20 @@ std::unique_ptr<Model> make_on_volume(const std::string& model_name, FineFemSolv
   return std::make_unique<OnVolume>(model_name, std::move(make_solve));
 }
 
-void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const std::string& reactions) {
+void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const std::string& reactions,
+                        const std::string& sphere_how) {
   describe_fine_fem(m);
   ModelInfo coarse;
   describe_coarse_fem(coarse);
-  m.tools = coarse.tools;  // no sphere on either volume: a stepper has no contact set
-  m.tools_how = "volume fine: " + fine_tools_how +
-                "; volume coarse_embedded: the same on the coarse nodes nearest the held surface vertices (a tool "
-                "smaller than the coarse spacing becomes a point-like hold)";
-  m.reactions = reactions + " (the fine or the coarse volume's nodes)";
+  m.tools = coarse.tools;
+  m.tools.push_back(ToolKind::Sphere);  // on the fine volume only (setup refuses it on the coarse one)
+  m.tools_how = "volume fine: the fine-volume nodes of the held surface vertices: " + fine_tools_how +
+                "; a sphere: " + sphere_how +
+                ". Volume coarse_embedded: the same on the coarse nodes nearest the held surface vertices (a tool "
+                "smaller than the coarse spacing becomes a point-like hold); no sphere (the coarse stepper has no "
+                "contact set on the embedded surface)";
+  m.reactions = reactions + " (the fine or the coarse volume's nodes); a sphere: the normal part of that balance at "
+                "its contact nodes";
   m.probes = "volume fine: " + m.probes + "; volume coarse_embedded: " + coarse.probes;
 }
 

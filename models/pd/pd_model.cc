@@ -26,7 +26,9 @@ ModelInfo pd_model_info() {
       "position each frame (Dirichlet rows of the global matrix); a sliding plate holds the normal "
       "component only",
       "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-      "implicit-Euler balance of the held nodes)");
+      "implicit-Euler balance of the held nodes)",
+      "the linearised gaps of the surface nodes in it as constraints of the global step (multipliers by a Schur "
+      "complement on A's factor; L-BFGS history dropped while any is in contact)");
   return m;
 }
 

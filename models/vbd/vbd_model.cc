@@ -25,7 +25,9 @@ ModelInfo vbd_model_info() {
       "their held components are set to the tool's "
       "position each frame and never moved by the sweeps; a sliding plate holds the normal component only",
       "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
-      "implicit-Euler balance of the held nodes)");
+      "implicit-Euler balance of the held nodes)",
+      "the linearised gap as a constraint of each surface vertex's 3x3 Newton step (a projection in the metric of its "
+      "block, not a penalty)");
   return m;
 }
 

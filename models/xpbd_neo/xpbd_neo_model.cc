@@ -26,7 +26,8 @@ ModelInfo xpbd_neo_model_info() {
       "moved linearly to the tool's position over the frame's sub-steps; a sliding plate holds the normal "
       "component only",
       "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs (f_int from the xpbd_neo_hookean law the "
-      "constraints minimise), summed per tool and over the support");
+      "constraints minimise), summed per tool and over the support",
+      "a collision projection of the surface nodes inside it after each sweep (Mueller et al. 2007)");
   return m;
 }
 

@@ -9,12 +9,14 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "elastic_body.h"
 #include "parameters.h"
+#include "sphere_obstacles.h"
 
 namespace tb {
 
@@ -47,10 +49,26 @@ class ElasticSolve {
   /// A nonlinear strategy's internal force f_int(u) at the last solution (3 #V),
   /// from which reactions are f - f_int; null for a linear one (then K u).
   virtual const Eigen::VectorXd* internal_force() const { return nullptr; }
+  /// Whether this strategy enforces rigid frictionless spheres inside its own solve
+  /// (the static Newton solve, the real-time steppers); the linear strategies leave
+  /// them to SphereContact (sphere_contact.h), the others take none.
+  virtual bool takes_spheres() const { return false; }
+  /// Turns the spheres on, acting on `surface_nodes` (the body node of each surface
+  /// vertex): from then on spheres() is the set the caller moves before each solve()
+  /// and reads the contact from after it. Throws std::logic_error where
+  /// takes_spheres() is false.
+  void enable_spheres(std::vector<int> surface_nodes) {
+    if (!takes_spheres()) throw std::logic_error("this elastic solve does not take spheres");
+    spheres_ = std::make_unique<SphereObstacles>(std::move(surface_nodes));
+  }
+  SphereObstacles* spheres() { return spheres_.get(); }
   /// Solver iterations of the last solve, where meaningful (else 0).
   virtual int last_iterations() const { return 0; }
   /// Facts worth writing beside a result (factor size, preconditioner ...).
   virtual nlohmann::json report() const { return nlohmann::json::object(); }
+
+ protected:
+  std::unique_ptr<SphereObstacles> spheres_;  ///< null unless enable_spheres()
 
  private:
   Eigen::VectorXd load_work_;

@@ -22,12 +22,25 @@
 // equilibrium the frame's answer is. Under a constant load the frames continue
 // Newton's iteration: k frames of budget 1 are one frame of budget k.
 //
+// Rigid frictionless spheres (the static solve, any law): the KKT conditions of
+// min Pi(u) subject to g_i(u) = |x_i - c| - r >= 0 at the body's surface nodes,
+//   f_int(u) - f = sum_i lambda_i n_i,  lambda_i >= 0,  g_i >= 0,  lambda_i g_i = 0,
+// by a primal-dual active set (Hintermueller, Ito and Kunisch 2002) inside Newton:
+// each iteration linearises the gaps of the active nodes at their current positions
+// (the normal moves with the node; Wriggers 2006, ch. 5-6) and solves
+//   (K - sum_a lambda_a (I - n_a n_a^T) / |x_a - c|) du = -(f_int - f) + N^T lambda,
+//   N du = -g_A,
+// for (du, lambda) by the Schur complement S = N K~^-1 N^T on the tangent's factor;
+// then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
+// moves with the load increments (docs/equations.md, "Contact with a rigid sphere").
+//
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
 // incremental potential (Kane et al. 2000; Gast et al. 2015; docs/equations.md):
 //   M / h^2 (u - u_n - h v_n) + f_int(u) = f,   v_{n+1} = (u - u_n) / h,
 // solved by the same Newton iteration with M / h^2 added to the tangent's diagonal.
 #include <Eigen/CholmodSupport>
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -62,13 +75,7 @@ class NewtonSolve : public ElasticSolve {
     // The tangent lives on K's pattern (every pair of nodes sharing a tet): where
     // each element entry lands in its values, and where each free entry comes from.
     K_full_ = body.full_stiffness();
-    const auto value_index = [&](int row, int col) {
-      const int* begin = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col];
-      const int* end = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col + 1];
-      const int* at = std::lower_bound(begin, end, row);
-      if (at == end || *at != row) throw std::logic_error("newton solve: an element entry outside K's pattern");
-      return static_cast<int>(at - K_full_.innerIndexPtr());
-    };
+    const auto value_index = [&](int row, int col) { return this->value_index(row, col); };
     scatter_.resize(static_cast<size_t>(m.T.rows()) * 144);
     for (Eigen::Index t = 0; t < m.T.rows(); ++t)
       for (int a = 0; a < 12; ++a)
@@ -93,28 +100,43 @@ class NewtonSolve : public ElasticSolve {
       for (int d = 0; d < body.dofs(); ++d) diagonal_.push_back(value_index(d, d));
       velocity_ = Eigen::VectorXd::Zero(body.dofs());
     }
+    // The scale of a gap's violation in the line search's merit: the stiffest free dof (N/m).
+    for (int d = 0; d < K_free_.outerSize(); ++d) stiffness_scale_ = std::max(stiffness_scale_, K_free_.coeff(d, d));
     cholesky_.cholmod().print = 0;  // an indefinite tangent is handled (info()), not printed
+    ldlt_.cholmod().print = 0;
     cholesky_.analyzePattern(K_free_);
     u_converged_ = Eigen::VectorXd::Zero(body.dofs());
     f_converged_ = Eigen::VectorXd::Zero(body.free_dofs());
   }
 
   bool linear() const override { return false; }
+  bool takes_spheres() const override { return o_.time_step == 0; }
   const Eigen::VectorXd* internal_force() const override { return &f_int_solution_; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
     if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
-    if (o_.max_iterations_per_frame > 0) return budgeted(f_free, u);
+    if (o_.max_iterations_per_frame > 0) {
+      if (spheres_ && spheres_->spheres() > 0)
+        throw std::invalid_argument(
+            "newton_max_iterations_per_frame: a budgeted frame has no contact set; a sphere needs the Newton solve "
+            "to convergence (budget 0)");
+      return budgeted(f_free, u);
+    }
     // The target: this frame's forces and the prescribed values the caller set in u;
     // the start: the last converged state.
     const Eigen::VectorXd u_target = u, u_start = u_converged_;
     Eigen::VectorXd state = u_start, f(body_.free_dofs());
     iterations_ = increments_ = halvings_ = 0;
+    contact_ = spheres_ && spheres_->spheres() > 0;
+    if (contact_ && centres_converged_.rows() != spheres_->centres().rows())
+      centres_converged_ = spheres_->centres();  // the first frame: the spheres start where they are
+    std::vector<ActivePair> active_converged = active_;
     double done = 0, increment = 1.0 / std::max(1, o_.load_steps);
     while (done < 1) {
       double target = done + increment;
       if (target > 1 - 1e-12) target = 1;
       f = (1 - target) * f_converged_ + target * f_free;
+      if (contact_) centres_now_ = (1 - target) * centres_converged_ + target * spheres_->centres();
       Eigen::VectorXd trial = state;
       set_constrained(u_start, u_target, target, trial);
       predict_interior(state, f, trial);
@@ -122,7 +144,9 @@ class NewtonSolve : public ElasticSolve {
         state = trial;
         done = target;
         ++increments_;
+        active_converged = active_;
       } else {
+        active_ = active_converged;  // the increment again from the last converged set
         increment /= 2;
         if (++halvings_ > o_.max_halvings) {
           std::ostringstream msg;
@@ -138,6 +162,7 @@ class NewtonSolve : public ElasticSolve {
     assemble(state, false);
     f_int_solution_ = f_int_;
     f_converged_ = f_free;
+    if (spheres_) record_contacts(state);
   }
 
   int last_iterations() const override { return iterations_; }
@@ -162,6 +187,12 @@ class NewtonSolve : public ElasticSolve {
       r["largest_prescribed_move_left_m"] = largest_prescribed_left_;
       r["inverted_tets_last_solve"] = inverted_tets_;
     }
+    if (spheres_)
+      r["sphere_contact"] = {{"method", "primal-dual active set on the linearised gaps inside Newton (docs/equations.md)"},
+                             {"gap_tolerance_over_radius", kGapTolerance},
+                             {"active_nodes_last_solve", active_.size()},
+                             {"largest_active_nodes", largest_active_},
+                             {"indefinite_tangents", indefinite_factorisations_}};
     return r;
   }
 
@@ -350,42 +381,255 @@ class NewtonSolve : public ElasticSolve {
   }
 
   /// Newton from `u` (its constrained dofs already set) at external force f; true
-  /// with u the equilibrium when converged.
+  /// with u the equilibrium when converged. With spheres (contact_), the KKT
+  /// conditions at centres_now_ with the active set active_ (header comment).
   bool newton(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
     if (!assemble(u, true)) return false;
     Eigen::VectorXd r, du_free, du_full, u_try;
     residual(f, r);
     // The scale of the forces in play: the external ones, or (under prescribed
-    // displacements alone) the internal ones the first state carries.
-    const double scale = std::max({f.norm(), f_int_.norm(), 1e-300});
+    // displacements alone) the internal ones the first state carries, or the contact's.
+    const double scale0 = std::max({f.norm(), f_int_.norm(), 1e-300});
+    if (contact_) update_active_set(u);  // the nodes the sphere's move put inside join at once
+    double merit = contact_ ? contact_terms(u, r) : r.norm();
     for (int it = 0;; ++it) {
-      const double r_norm = r.norm();
-      if (r_norm <= o_.tolerance * scale) return true;
+      const double r_norm = contact_ ? residual_c_.norm() : r.norm();
+      const double scale = contact_ ? std::max(scale0, contact_free_.norm()) : scale0;
+      if (r_norm <= o_.tolerance * scale) {
+        if (!contact_ || contact_settled(u)) return true;
+        // In equilibrium with this set, but a node is inside or pulls: the set anew
+        // (a step would be round-off the line search cannot decrease).
+        if (update_active_set(u)) {
+          merit = contact_terms(u, r);
+          if (it == o_.max_iterations) return false;
+          continue;
+        }
+      }
       if (it == o_.max_iterations) return false;
       ++iterations_;
-      if (!factorize_tangent()) return false;
-      du_free = cholesky_.solve(-r);
+      if (contact_) add_contact_curvature(u);
+      indefinite_ = false;
+      if (!factorize_tangent()) {
+        // The contact's curvature made the tangent indefinite (a node pressed hard on the
+        // sphere's pole: lambda / |x - c| above its tangential stiffness): LDL^T, no
+        // pivoting, which keeps Newton's quadratic rate; without the curvature (a
+        // quasi-Newton step) if that fails too.
+        if (!contact_ || active_.empty()) return false;
+        if (!ldlt_analysed_) ldlt_.analyzePattern(K_free_);  // K_free_ holds the tangent factorize_tangent() copied
+        ldlt_analysed_ = true;
+        ldlt_.factorize(K_free_);
+        indefinite_ = ldlt_.info() == Eigen::Success;
+        if (!indefinite_ && (!assemble(u, true) || !factorize_tangent())) return false;
+        ++indefinite_factorisations_;
+      }
+      du_free = indefinite_ ? Eigen::VectorXd(ldlt_.solve(-r)) : Eigen::VectorXd(cholesky_.solve(-r));
+      if (contact_ && !active_.empty()) solve_multipliers(du_free);
       du_full = Eigen::VectorXd::Zero(body_.dofs());
       body_.to_full(du_free, du_full);
       // Converged also when the step no longer moves u: near rest a law's stress is
       // a difference of terms of the size of mu (neo-Hookean: mu (F - F^-T)), which
       // leaves |R| a round-off floor that a small load's tolerance can sit below.
-      if (du_full.norm() <= o_.tolerance * u.norm()) {
+      // With spheres, a body at rest under no load (a sphere not yet touching) has |R|
+      // and |u| at round-off: |u| counts at least the smallest radius.
+      const double u_scale = contact_ ? std::max(u.norm(), spheres_->radii().minCoeff()) : u.norm();
+      if (du_full.norm() <= o_.tolerance * u_scale) {
         u += du_full;
-        return true;
+        if (!contact_) return true;
+        for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = lambda_new_(static_cast<Eigen::Index>(a));
+        if (contact_settled(u)) return true;
+        update_active_set(u);
+        if (!assemble(u, true)) return false;
+        residual(f, r);
+        merit = contact_terms(u, r);
+        continue;
       }
       // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and
-      // lowers |R|.
+      // lowers |R| (with spheres, the merit |R(u, lambda)| + k_max |g_A(u)|, lambda
+      // moved with the step).
       bool accepted = false;
-      for (double step = 1; step > 1.0 / 256 && !accepted; step /= 2) {
+      double step = 1;
+      for (; step > 1.0 / 256 && !accepted; step /= 2) {
         u_try = u + step * du_full;
         if (!assemble(u_try, true)) continue;
         residual(f, r);
-        accepted = r.norm() < r_norm;
+        if (contact_) {
+          for (size_t a = 0; a < active_.size(); ++a)
+            trial_lambda_[a] = active_[a].lambda + step * (lambda_new_(static_cast<Eigen::Index>(a)) - active_[a].lambda);
+          const double m = contact_terms(u_try, r, &trial_lambda_);
+          accepted = m < merit || m <= o_.tolerance * scale;  // or already at the converged level (round-off)
+          if (accepted) merit = m;
+        } else {
+          accepted = r.norm() < r_norm;
+        }
+        if (accepted) break;
       }
       if (!accepted) return false;
       u = u_try;
+      if (contact_) {
+        for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = trial_lambda_[a];
+        if (update_active_set(u)) merit = contact_terms(u, r);  // the set changed: its merit anew
+      }
     }
+  }
+
+  // --- Rigid spheres (header comment) ---
+
+  /// A node in contact with a sphere and its multiplier (the normal force, N).
+  struct ActivePair {
+    int vertex = 0, sphere = 0;
+    double lambda = 0;
+    bool operator==(const ActivePair& o) const { return vertex == o.vertex && sphere == o.sphere; }
+  };
+  /// Gaps below -kGapTolerance r are penetrations; an active node is on its sphere within kGapTolerance r.
+  static constexpr double kGapTolerance = 1e-9;
+
+  int node_of(int vertex) const { return spheres_->surface_nodes()[static_cast<size_t>(vertex)]; }
+  Eigen::Vector3d position(const Eigen::VectorXd& u, int node) const {
+    return body_.mesh().V.row(node).transpose() + u.segment<3>(3 * node);
+  }
+  bool free_node(int node) const {
+    return body_.free_index(3 * node) >= 0 || body_.free_index(3 * node + 1) >= 0 || body_.free_index(3 * node + 2) >= 0;
+  }
+
+  /// At u, with r = f_int - f on the free dofs: each active pair's gap and normal,
+  /// the contact force N^T lambda on the free dofs (contact_free_), the residual
+  /// R = r - N^T lambda (residual_c_) and the merit |R| + k_max |g_A|; lambda the
+  /// active pairs' own, or `lambda` (one per pair).
+  double contact_terms(const Eigen::VectorXd& u, const Eigen::VectorXd& r, const std::vector<double>* lambda = nullptr) {
+    const size_t m = active_.size();
+    normal_.resize(m);
+    gap_.resize(static_cast<Eigen::Index>(m));
+    contact_free_.setZero(body_.free_dofs());
+    for (size_t a = 0; a < m; ++a) {
+      const ActivePair& p = active_[a];
+      const int node = node_of(p.vertex);
+      gap_(static_cast<Eigen::Index>(a)) = sphere_gap(position(u, node), centres_now_.row(p.sphere).transpose(),
+                                                      spheres_->radii()(p.sphere), normal_[a]);
+      const double l = lambda ? (*lambda)[a] : p.lambda;
+      for (int c = 0; c < 3; ++c) {
+        const int free = body_.free_index(3 * node + c);
+        if (free >= 0) contact_free_(free) += l * normal_[a](c);
+      }
+    }
+    residual_c_ = r - contact_free_;
+    return residual_c_.norm() + stiffness_scale_ * gap_.norm();
+  }
+
+  /// Subtracts lambda_a (I - n_a n_a^T) / |x_a - c| from each active node's diagonal
+  /// block of the tangent last assembled: the gap's curvature (the normal turns as
+  /// the node slides), which makes the iteration Newton's on the KKT system.
+  void add_contact_curvature(const Eigen::VectorXd& u) {
+    for (size_t a = 0; a < active_.size(); ++a) {
+      const ActivePair& p = active_[a];
+      if (!(p.lambda > 0)) continue;
+      const int node = node_of(p.vertex);
+      const double distance = (position(u, node) - centres_now_.row(p.sphere).transpose()).norm();
+      if (!(distance > 0)) continue;
+      const Eigen::Matrix3d H = p.lambda / distance * (Eigen::Matrix3d::Identity() - normal_[a] * normal_[a].transpose());
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) K_full_.valuePtr()[value_index(3 * node + i, 3 * node + j)] -= H(i, j);
+    }
+  }
+
+  /// du_free in: K~^-1 (-r); out: with the active gaps' linearised constraints,
+  /// du0 + Y lambda_new, Y = K~^-1 N^T, S lambda_new = -g - N du0, S = N Y.
+  void solve_multipliers(Eigen::VectorXd& du_free) {
+    const Eigen::Index m = static_cast<Eigen::Index>(active_.size());
+    Nt_.setZero(body_.free_dofs(), m);
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const int node = node_of(active_[static_cast<size_t>(a)].vertex);
+      for (int c = 0; c < 3; ++c) {
+        const int free = body_.free_index(3 * node + c);
+        if (free >= 0) Nt_(free, a) = normal_[static_cast<size_t>(a)](c);
+      }
+    }
+    if (indefinite_)
+      Y_ = ldlt_.solve(Nt_);
+    else
+      Y_ = cholesky_.solve(Nt_);
+    const Eigen::MatrixXd S = Nt_.transpose() * Y_;
+    lambda_new_ = S.ldlt().solve(-gap_ - Nt_.transpose() * du_free);
+    du_free += Y_ * lambda_new_;
+    trial_lambda_.resize(active_.size());
+  }
+
+  /// Whether u satisfies the contact's KKT conditions to kGapTolerance: every active
+  /// multiplier non-negative and its node on the sphere, no free surface node inside.
+  bool contact_settled(const Eigen::VectorXd& u) const {
+    Eigen::Vector3d n;
+    for (const ActivePair& p : active_) {
+      if (p.lambda < 0) return false;
+      const double g = sphere_gap(position(u, node_of(p.vertex)), centres_now_.row(p.sphere).transpose(),
+                                  spheres_->radii()(p.sphere), n);
+      if (std::abs(g) > kGapTolerance * spheres_->radii()(p.sphere)) return false;
+    }
+    return deepest_outside_set(u) <= 0;
+  }
+
+  /// How deep (in units of kGapTolerance r) the deepest free surface node outside the set is inside a sphere.
+  double deepest_outside_set(const Eigen::VectorXd& u) const {
+    double worst = 0;
+    Eigen::Vector3d n;
+    const int vertices = static_cast<int>(spheres_->surface_nodes().size());
+    for (int k = 0; k < spheres_->spheres(); ++k) {
+      const double r = spheres_->radii()(k);
+      for (int v = 0; v < vertices; ++v) {
+        const int node = node_of(v);
+        const double g = sphere_gap(position(u, node), centres_now_.row(k).transpose(), r, n);
+        if (g >= -kGapTolerance * r || !free_node(node)) continue;
+        if (std::find(active_.begin(), active_.end(), ActivePair{v, k, 0}) != active_.end()) continue;
+        worst = std::max(worst, -g / (kGapTolerance * r));
+      }
+    }
+    return worst > 1 ? worst : 0;
+  }
+
+  /// The primal-dual update of the set at u: pairs whose multiplier is tensile leave,
+  /// free surface nodes inside a sphere join (lambda 0). True if it changed.
+  bool update_active_set(const Eigen::VectorXd& u) {
+    const size_t before = active_.size();
+    active_.erase(std::remove_if(active_.begin(), active_.end(), [](const ActivePair& p) { return p.lambda < 0; }),
+                  active_.end());
+    bool changed = active_.size() != before;
+    Eigen::Vector3d n;
+    const int vertices = static_cast<int>(spheres_->surface_nodes().size());
+    for (int k = 0; k < spheres_->spheres(); ++k) {
+      const double r = spheres_->radii()(k);
+      for (int v = 0; v < vertices; ++v) {
+        const int node = node_of(v);
+        if (!free_node(node)) continue;
+        if (sphere_gap(position(u, node), centres_now_.row(k).transpose(), r, n) >= -kGapTolerance * r) continue;
+        if (std::find(active_.begin(), active_.end(), ActivePair{v, k, 0}) != active_.end()) continue;
+        active_.push_back({v, k, 0});
+        changed = true;
+      }
+    }
+    return changed;
+  }
+
+  /// After a solve: each active pair's force lambda n on the body, into spheres_.
+  void record_contacts(const Eigen::VectorXd& u) {
+    contacts_.clear();
+    Eigen::Vector3d n;
+    for (const ActivePair& p : active_) {
+      if (!contact_) break;
+      const int node = node_of(p.vertex);
+      sphere_gap(position(u, node), spheres_->centres().row(p.sphere).transpose(), spheres_->radii()(p.sphere), n);
+      contacts_.push_back({node, p.vertex, p.sphere, p.lambda * n});
+    }
+    if (contact_) centres_converged_ = spheres_->centres();
+    largest_active_ = std::max(largest_active_, static_cast<int>(active_.size()));
+    positions_ = body_.mesh().V.transpose() + Eigen::Map<const Eigen::Matrix3Xd>(u.data(), 3, body_.mesh().V.rows());
+    spheres_->record(contacts_, positions_);
+  }
+
+  /// Where the entry (row, col) of K's pattern is in K_full_'s values.
+  int value_index(int row, int col) const {
+    const int* begin = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col];
+    const int* end = K_full_.innerIndexPtr() + K_full_.outerIndexPtr()[col + 1];
+    const int* at = std::lower_bound(begin, end, row);
+    if (at == end || *at != row) throw std::logic_error("newton solve: an element entry outside K's pattern");
+    return static_cast<int>(at - K_full_.innerIndexPtr());
   }
 
   const ElasticBody& body_;
@@ -397,6 +641,10 @@ class NewtonSolve : public ElasticSolve {
   std::vector<int> free_from_full_;  ///< per value of K_free_, its place in K_full_'s values
   Eigen::SparseMatrix<double> K_full_, K_free_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky_;
+  Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;  ///< the contact's indefinite tangent
+  bool ldlt_analysed_ = false;
+  bool indefinite_ = false;  ///< whether this iteration's tangent was factorised by ldlt_
+  long indefinite_factorisations_ = 0;
   Eigen::VectorXd f_int_, f_int_solution_, u_converged_, f_converged_;
   Eigen::VectorXd inertia_;    ///< implicit Euler: the lumped mass over h^2, per dof
   Eigen::VectorXd velocity_;   ///< implicit Euler: v_n
@@ -409,6 +657,19 @@ class NewtonSolve : public ElasticSolve {
   long frames_not_converged_ = 0, frames_stopped_early_ = 0;
   int inverted_tets_ = 0;  ///< tets with det F <= 0 at the last state assembled (laws defined there)
   Eigen::VectorXd last_iterate_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
+  // Spheres: whether this solve has any, the active set (kept from frame to frame),
+  // the centres at the last converged state and at the current increment, and work.
+  bool contact_ = false;
+  std::vector<ActivePair> active_;
+  Eigen::MatrixX3d centres_converged_, centres_now_;
+  std::vector<Eigen::Vector3d> normal_;
+  Eigen::VectorXd gap_, contact_free_, residual_c_, lambda_new_;
+  std::vector<double> trial_lambda_;
+  Eigen::MatrixXd Nt_, Y_;
+  double stiffness_scale_ = 0;
+  int largest_active_ = 0;
+  std::vector<NodeContact> contacts_;
+  Eigen::Matrix3Xd positions_;
 };
 
 }  // namespace

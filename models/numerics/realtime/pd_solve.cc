@@ -136,14 +136,22 @@ class PdSolve : public TetTimeStepper<Law> {
   /// The iterations from a valid x_ whose E and gradient_ are computed.
   void relax(double h2, double energy) {
     const bool quasi_newton = o_.mode == PdMode::QuasiNewton;
-    const double first = norm(gradient_);
+    const bool contact = this->contact_on();
+    if (contact) update_contact_set();
+    const double first = contact ? contact_residual() : norm(gradient_);
     pairs_ = 0;
     done_ = 0;
     reduction_ = 1;
     for (; done_ < o_.iterations; ++done_) {
-      const double g = norm(gradient_);
+      if (contact && done_ > 0) update_contact_set();
+      const double g = contact ? contact_residual() : norm(gradient_);
       reduction_ = first > 0 ? g / first : 0;
-      if (!(g > std::max(o_.tolerance * first, gradient_floor_))) break;
+      if (!(g > std::max(o_.tolerance * first, gradient_floor_)) && !(contact && gap_open())) break;
+      if (contact && !pd_contacts_.empty()) {
+        pairs_ = 0;  // the L-BFGS pairs of an unconstrained iterate do not hold with the multipliers
+        if (!constrained_step(h2, energy)) break;
+        continue;
+      }
       descent_direction();
       double slope = dot(direction_, gradient_);
       if (quasi_newton && !(slope < 0)) {  // the history spoilt it: A^-1 alone is a descent direction
@@ -158,6 +166,7 @@ class PdSolve : public TetTimeStepper<Law> {
         if (!quasi_newton || sufficient_decrease(energy, trial_energy, step, slope)) break;
         if (halving == kMaxHalvings) {
           ++failures_;
+          if (contact) mark_contacts();
           return;
         }
         step /= 2;
@@ -168,6 +177,110 @@ class PdSolve : public TetTimeStepper<Law> {
       gradient_.swap(trial_gradient_);
       energy = trial_energy;
     }
+    if (contact) mark_contacts();
+  }
+
+  /// The contact set's nodes with a non-negative multiplier are the sphere's contacts.
+  void mark_contacts() {
+    for (const PdContact& c : pd_contacts_) this->mark_contact(c.node, c.sphere, c.mu >= 0);
+  }
+
+  // --- Spheres: the linearised gaps as constraints of the global step ---
+
+  struct PdContact {
+    int node = 0, sphere = 0;
+    double mu = 0;  ///< its multiplier, N
+  };
+
+  /// The primal-dual update of the contact set at x_: pairs with a tensile
+  /// multiplier leave, free surface nodes inside a sphere join.
+  void update_contact_set() {
+    pd_contacts_.erase(std::remove_if(pd_contacts_.begin(), pd_contacts_.end(), [](const PdContact& c) { return c.mu < 0; }),
+                       pd_contacts_.end());
+    Eigen::Vector3d n;
+    for (int node : this->spheres_->surface_nodes()) {
+      if (this->surface_vertex(node) < 0) continue;
+      for (int k = 0; k < this->spheres_->spheres(); ++k) {
+        if (!(this->spheres_->gap(x_.col(node), k, n) < 0)) continue;
+        bool known = false;
+        for (const PdContact& c : pd_contacts_) known = known || (c.node == node && c.sphere == k);
+        if (!known) pd_contacts_.push_back({node, k, 0});
+      }
+    }
+  }
+
+  /// Whether a node of the contact set is off its sphere by more than 1e-9 r (its
+  /// linearised gap not yet closed: the gradient alone does not show it).
+  bool gap_open() const {
+    Eigen::Vector3d n;
+    for (const PdContact& c : pd_contacts_) {
+      const double r = this->spheres_->radii()(c.sphere);
+      if (std::abs(this->spheres_->gap(x_.col(c.node), c.sphere, n)) > 1e-9 * r) return true;
+    }
+    return false;
+  }
+
+  /// |grad E| with, at each node of the contact set, the part along the outward
+  /// normal that a non-negative multiplier balances removed (KKT: grad E = N^T mu).
+  double contact_residual() {
+    q_ = gradient_;
+    Eigen::Vector3d n;
+    for (const PdContact& c : pd_contacts_) {
+      this->spheres_->gap(x_.col(c.node), c.sphere, n);
+      n = n.cwiseProduct(free_.col(c.node));
+      const double along = q_.col(c.node).dot(n);
+      if (along > 0 && n.squaredNorm() > 0) q_.col(c.node) -= along / n.squaredNorm() * n;
+    }
+    return norm(q_);
+  }
+
+  /// One global step with the contact set's gaps linearised at x_ as constraints:
+  ///   A d = -grad E + N^T mu,  N d = -g,
+  /// solved by the Schur complement S = N A^-1 N^T (one solve on A's factor per
+  /// contact node), then x += d (halved only while a tet is not positive under a
+  /// law undefined there). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
+  /// KKT conditions of the step's minimiser with the spheres. False if no step keeps
+  /// the tets positive.
+  bool constrained_step(double h2, double& energy) {
+    const size_t m = pd_contacts_.size();
+    global_->solve(gradient_, direction_);
+    direction_ = -direction_;
+    while (columns_.size() < m) columns_.emplace_back(Eigen::Matrix3Xd::Zero(3, x_.cols()));
+    normals_.resize(m);
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(m));
+    for (size_t a = 0; a < m; ++a) {
+      const PdContact& c = pd_contacts_[a];
+      const double g = this->spheres_->gap(x_.col(c.node), c.sphere, normals_[a]);
+      normals_[a] = normals_[a].cwiseProduct(free_.col(c.node));
+      q_.setZero();
+      q_.col(c.node) = normals_[a];
+      global_->solve(q_, columns_[a]);
+      rhs(static_cast<Eigen::Index>(a)) = -g - normals_[a].dot(direction_.col(c.node));
+    }
+    Eigen::MatrixXd S(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    for (size_t a = 0; a < m; ++a)
+      for (size_t b = 0; b < m; ++b)
+        S(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
+            normals_[a].dot(columns_[b].col(pd_contacts_[a].node));
+    const Eigen::VectorXd mu = S.ldlt().solve(rhs);
+    for (size_t a = 0; a < m; ++a) direction_ += mu(static_cast<Eigen::Index>(a)) * columns_[a];
+    double step = 1, trial_energy = 0;
+    for (int halving = 0;; ++halving) {
+      trial_ = x_ + step * direction_;
+      trial_energy = evaluate(trial_, trial_gradient_, h2, true);
+      if (std::isfinite(trial_energy)) break;
+      if (halving == kMaxHalvings) {
+        ++failures_;
+        return false;
+      }
+      step /= 2;
+      ++halvings_;
+    }
+    x_.swap(trial_);
+    gradient_.swap(trial_gradient_);
+    energy = trial_energy;
+    for (size_t a = 0; a < m; ++a) pd_contacts_[a].mu = mu(static_cast<Eigen::Index>(a));
+    return true;
   }
 
   static constexpr int kMaxHalvings = 30;
@@ -274,6 +387,9 @@ class PdSolve : public TetTimeStepper<Law> {
   std::vector<char> valid_;     ///< whether tet t's F was positive (laws undefined at det F <= 0)
   Eigen::Matrix3Xd y_, gradient_, trial_gradient_, trial_, direction_, q_;
   std::vector<Eigen::Matrix3Xd> s_pairs_, t_pairs_;  ///< L-BFGS pairs (ring of `history`)
+  std::vector<PdContact> pd_contacts_;            ///< the contact set, kept from frame to frame
+  std::vector<Eigen::Matrix3Xd> columns_;         ///< A^-1 N^T, one per contact (grown, never shrunk)
+  std::vector<Eigen::Vector3d> normals_;
   std::vector<double> rho_, alpha_;
   int pairs_ = 0, newest_ = -1;
   int done_ = 0;

@@ -6,6 +6,16 @@
 // frame of `time_step` per solve(): the fine FEM (models/fine_fem.h) runs it as a
 // dynamic model, tools and loads and reactions included.
 //
+// Rigid frictionless spheres (takes_spheres): each stepper keeps the body's surface
+// nodes out of them in its own iteration (VBD: the linearised gap as a constraint of
+// the vertex's 3x3 Newton step; XPBD: a collision projection after each sweep; PD:
+// the linearised gaps as constraints of the global step, by multipliers) and marks
+// the nodes its last constraint step acted on (touching_). The force a sphere gives
+// is read as a tool's: at each marked node, the normal component of the
+// implicit-Euler balance m (x - x_n - h v_n) / h^2 + f_int(x) - f (n . r) n, summed
+// with the sign turned (the force on the sphere); at a steady state it is the
+// contact multiplier of the static equilibrium (docs/equations.md).
+//
 // Reactions (what the tissue exerts on a tool): at a held dof c, f_c - f_int,c(x)
 // - m_c (x_c - x_n,c - h v_n,c) / h^2, the implicit-Euler balance of the node the
 // tool moves (as the fem_dynamic reference measures it; docs/equations.md), from
@@ -94,6 +104,7 @@ class TetTimeStepper : public ElasticSolve {
   }
 
   bool linear() const override { return false; }
+  bool takes_spheres() const override { return true; }
   /// Exact at the held dofs only (the reactions read no other; tet_time_stepping.h).
   const Eigen::VectorXd* internal_force() const override { return &reaction_force_; }
 
@@ -110,6 +121,7 @@ class TetTimeStepper : public ElasticSolve {
     x_n_ = x_;
     v_n_held_ = v_;
     target_ = X_ + Eigen::Map<const Eigen::Matrix3Xd>(u.data(), 3, n);  // the held components' values
+    if (contact_on()) prepare_contact();
     advance();
     for (Eigen::Index v = 0; v < n; ++v)
       for (int i = 0; i < 3; ++i)
@@ -119,6 +131,7 @@ class TetTimeStepper : public ElasticSolve {
         }
     Eigen::Map<Eigen::Matrix3Xd>(u.data(), 3, n) = x_ - X_;
     measure_reactions();
+    if (spheres_) measure_contact();
   }
 
   nlohmann::json report() const override {
@@ -136,6 +149,26 @@ class TetTimeStepper : public ElasticSolve {
   /// afterwards; a stepper may move them there gradually).
   virtual void advance() = 0;
   virtual nlohmann::json own_report() const = 0;
+
+  // --- Spheres (header comment) ---
+
+  bool contact_on() const { return spheres_ && spheres_->spheres() > 0; }
+  /// The surface vertex of body node v, -1 for an interior node (set while contact_on()).
+  int surface_vertex(Eigen::Index v) const { return surface_vertex_[static_cast<size_t>(v)]; }
+  /// Marks whether the method's last constraint step on node v acted against sphere k.
+  void mark_contact(Eigen::Index v, int k, bool on) {
+    touching_[static_cast<size_t>(v) * static_cast<size_t>(spheres_->spheres()) + static_cast<size_t>(k)] = on;
+  }
+  /// Node v's position moved out of sphere k onto its surface along the normal at x
+  /// (Mueller et al. 2007, sec. 3.5: C(x) = |x - c| - r >= 0 with stiffness 1), its
+  /// held components kept; true if it was inside (and so moved).
+  bool project_out_of_sphere(Eigen::Index v, int k) {
+    Eigen::Vector3d n;
+    const double g = spheres_->gap(x_.col(v), k, n);
+    if (g >= 0) return false;
+    x_.col(v) -= g * n.cwiseProduct(free_.col(v));
+    return true;
+  }
 
   /// F of tet t at positions x (3 by #V): F = sum_a x_a g_a^T (tet_element.h), the
   /// outer products written out; gathered into a 3 x 4 block and multiplied, Eigen's
@@ -239,6 +272,43 @@ class TetTimeStepper : public ElasticSolve {
   Eigen::VectorXd mass_;     ///< lumped nodal mass, kg
 
  private:
+  /// The frame's contact bookkeeping: each node's surface vertex (once), no node touching.
+  void prepare_contact() {
+    const Eigen::Index n = X_.cols();
+    if (surface_vertex_.empty()) {
+      surface_vertex_.assign(static_cast<size_t>(n), -1);
+      const std::vector<int>& nodes = spheres_->surface_nodes();
+      for (size_t v = 0; v < nodes.size(); ++v)
+        if (free_.col(nodes[v]).sum() > 0) surface_vertex_[static_cast<size_t>(nodes[v])] = static_cast<int>(v);
+      around_contact_ = vertex_tets(T_, static_cast<int>(n));
+    }
+    touching_.assign(static_cast<size_t>(n) * static_cast<size_t>(spheres_->spheres()), 0);
+  }
+
+  /// Each marked node's contact force, the normal part of its implicit-Euler balance
+  /// (header comment), into spheres_ (forces, contact vertices, penetration).
+  void measure_contact() {
+    contacts_.clear();
+    const int S = spheres_->spheres();
+    const double h = s_.time_step;
+    for (size_t i = 0; i < touching_.size() && S > 0; ++i) {
+      if (!touching_[i]) continue;
+      const Eigen::Index v = static_cast<Eigen::Index>(i / static_cast<size_t>(S));
+      const int k = static_cast<int>(i % static_cast<size_t>(S));
+      Eigen::Vector3d r = mass_(v) * (x_.col(v) - x_n_.col(v) - h * v_n_held_.col(v)) / (h * h) - f_ext_.col(v);
+      for (int j = around_contact_.offset[static_cast<size_t>(v)]; j < around_contact_.offset[static_cast<size_t>(v) + 1]; ++j) {
+        const auto [t, a] = around_contact_.around[static_cast<size_t>(j)];
+        const TetShape& shape = shapes_[static_cast<size_t>(t)];
+        r += shape.volume * (law_.first_piola(deformation_gradient(t, x_)) * shape.gradients.col(a));
+      }
+      r = r.cwiseProduct(free_.col(v));  // a held component's share goes to its tool
+      Eigen::Vector3d normal;
+      spheres_->gap(x_.col(v), k, normal);
+      contacts_.push_back({static_cast<int>(v), surface_vertex(v), k, normal.dot(r) * normal});
+    }
+    spheres_->record(contacts_, x_);
+  }
+
   void measure_reactions() {
     reaction_force_.setZero();
     const double h = s_.time_step;
@@ -273,6 +343,10 @@ class TetTimeStepper : public ElasticSolve {
   }
 
   std::unique_ptr<pbd::ThreadTeam> team_;
+  std::vector<int> surface_vertex_;     ///< per node, its surface vertex or -1 (contact only)
+  std::vector<char> touching_;          ///< per (node, sphere): the last constraint step acted on it
+  VertexTets around_contact_;           ///< the tets around each node (the contact forces' f_int)
+  std::vector<NodeContact> contacts_;
   std::vector<int> held_tets_;      ///< tets with a held node (the reactions' f_int)
   Eigen::Matrix3Xd v_n_held_;       ///< velocities at the frame's start (the held nodes' inertia)
   Eigen::VectorXd reaction_force_;  ///< f_int + inertia at the held dofs (3 #V, zero elsewhere)

@@ -158,6 +158,7 @@ class VbdSolve : public TetTimeStepper<Law> {
     if (llt.info() != Eigen::Success) return;  // not a descent direction: the vertex waits this sweep
     Eigen::Vector3d dx = -llt.solve(gradient);
     if (!dx.allFinite()) return;
+    if (this->contact_on() && this->surface_vertex(v) >= 0) constrain_to_spheres(v, llt, dx);
     const Eigen::Vector3d from = x_.col(v);
     for (int halving = 0; halving < 10; ++halving) {
       if (!keep_positive_ || (cached ? positive_after(det_change, count, dx) : positive_around(v, from + dx))) {
@@ -165,6 +166,28 @@ class VbdSolve : public TetTimeStepper<Law> {
         return;
       }
       dx /= 2;
+    }
+  }
+
+  /// The vertex's step with the linearised gap of each sphere it would enter as a
+  /// constraint of its 3x3 Newton step (instead of Chen et al. 2024's penalty): the
+  /// minimiser of the local quadratic model subject to g + n . dx >= 0 is
+  ///   dx = dx_free + mu H^-1 n,  mu = -(g + n . dx_free) / (n . H^-1 n) > 0,
+  /// so the step ends on the tangent plane at the point of the sphere nearest the
+  /// vertex (n the normal there, held components left out). A fixed point of the
+  /// sweeps (dx = 0 everywhere) then has g = 0 and grad = mu n at each contact: the
+  /// KKT conditions of the step's minimiser with the spheres.
+  void constrain_to_spheres(int v, const Eigen::LLT<Eigen::Matrix3d>& llt, Eigen::Vector3d& dx) {
+    for (int k = 0; k < this->spheres_->spheres(); ++k) {
+      Eigen::Vector3d n;
+      const double g = this->spheres_->gap(x_.col(v), k, n);
+      n = n.cwiseProduct(free_.col(v));
+      const double predicted = g + n.dot(dx);
+      const Eigen::Vector3d Hn = llt.solve(n);
+      const double nHn = n.dot(Hn);
+      const bool on = predicted < 0 && nHn > 0;
+      this->mark_contact(v, k, on);
+      if (on) dx += (-predicted / nHn) * Hn;
     }
   }
 

@@ -58,7 +58,10 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
         }
       lambda_d_.setZero();
       lambda_h_.setZero();
-      for (int k = 0; k < o_.iterations; ++k) sweep(colours_, project);
+      for (int k = 0; k < o_.iterations; ++k) {
+        sweep(colours_, project);
+        if (contact_on()) project_spheres();
+      }
       for (Eigen::Index v = 0; v < n; ++v)
         for (int i = 0; i < 3; ++i)
           if (free_(i, v) != 0) v_(i, v) = keep * (x_(i, v) - x_sub_(i, v)) / h;
@@ -77,6 +80,16 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   int last_iterations() const override { return o_.substeps * o_.iterations; }
 
  private:
+  /// The collision constraints (Mueller et al. 2007, sec. 3.5; Macklin et al. 2016
+  /// treat contacts as constraints of the same solve): after each sweep of the tets,
+  /// every free surface node inside a sphere moves to its surface along the normal.
+  /// A node is in contact (marked) when the last projection moved it.
+  void project_spheres() {
+    for (int node : spheres_->surface_nodes())
+      if (surface_vertex(node) >= 0)
+        for (int k = 0; k < spheres_->spheres(); ++k) mark_contact(node, k, project_out_of_sphere(node, k));
+  }
+
   /// Tet t's two constraints projected together: the XPBD update of the pair, one
   /// 2x2 system (S + diag(alpha~)) dlambda = -(C + alpha~ lambda), S_ij = sum_a
   /// w_a grad_a C_i . grad_a C_j. Projected one after the other instead, each sees

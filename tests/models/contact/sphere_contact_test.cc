@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -18,6 +19,7 @@
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "hybrid_builder.h"
+#include "parameters.h"
 #include "model.h"
 #include "shapes.h"
 #include "sphere_contact.h"
@@ -124,6 +126,10 @@ struct Indentation {
   int nodes = 0, contacts = 0, candidates = 0, solves = 0;
   Eigen::Vector3d sphere = Eigen::Vector3d::Zero(), support = Eigen::Vector3d::Zero();
   double penetration = 0;
+  Eigen::VectorXd u;  ///< the body's displacement (3 #V)
+  // The Newton solve's KKT at convergence (newton_indent): the most negative
+  // multiplier (lambda = f . n), |f_int - f - contact| / |contact| on the free dofs.
+  double least_multiplier = 0, equilibrium = 0;
 };
 
 /// A mesh level of the indentation: the smallest cell h0 (uniform up to `core` from
@@ -144,9 +150,8 @@ constexpr double kMargin = 0.01, kDepthFactor = 0;
 /// the corner (0, 0, L); E = 1. The body and the contact solve the fem model uses
 /// (ElasticBody, the direct solve, SphereContact), set up here for the symmetry
 /// groups the scenario vocabulary has no tool for.
-Indentation indent(const Level& level, double d, double nu) {
-  const double R = 1, L = level.L, E = 1;
-  const HybridMesh h = quarter_block(level.h0, level.core, level.q, L);
+/// The quarter block's body: bottom clamped, the symmetry planes' groups.
+ElasticBody quarter_body(const HybridMesh& h, double nu) {
   const Points& X = h.fine_volume.V;
   const double eps = 1e-9;
   std::vector<char> clamped(static_cast<size_t>(X.rows()), 0);
@@ -162,10 +167,70 @@ Indentation indent(const Level& level, double d, double nu) {
     else if (on_y) py.nodes.push_back(static_cast<int>(n));
   }
   Material m;
-  m.youngs_modulus = E;
+  m.youngs_modulus = 1;
   m.poisson_ratio = nu;
+  return ElasticBody(h.fine_volume, m, clamped, {px, py, pxy});
+}
+
+/// The same indentation by the static Newton solve with the sphere in it (the fem
+/// model's solver newton, material law `law`): the sphere first touching the top,
+/// then pressed d in `steps` load increments.
+Indentation newton_indent(const Level& level, double d, double nu, const std::string& law, int steps = 4) {
+  const double R = 1, L = level.L;
+  const HybridMesh h = quarter_block(level.h0, level.core, level.q, L);
   const auto start = std::chrono::steady_clock::now();
-  ElasticBody body(h.fine_volume, m, clamped, {px, py, pxy});
+  const ElasticBody body = quarter_body(h, nu);
+  const Parameters p = resolve_parameters(elastic_solve_parameters("", "newton", "two_level"),
+                                          {{"material_law", law}, {"newton_load_steps", steps}, {"newton_tolerance", 1e-12}},
+                                          "test");
+  std::unique_ptr<ElasticSolve> solve = make_elastic_solve(body, p, "");
+  solve->enable_spheres(h.fine_surface_to_volume);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(body.dofs()), f_free = Eigen::VectorXd::Zero(body.free_dofs());
+  Eigen::MatrixX3d centre(1, 3);
+  for (double depth : {0.0, d}) {
+    centre << 0, 0, L + R - depth;
+    solve->spheres()->set(centre, Eigen::VectorXd::Constant(1, R));
+    solve->solve(f_free, nullptr, u);
+  }
+  const SphereObstacles& contact = *solve->spheres();
+  Indentation out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.sphere = contact.forces()[0];
+  out.force = 4 * out.sphere.z();
+  out.hertz = 4.0 / 3.0 / (1 - nu * nu) * std::sqrt(R) * std::pow(d, 1.5);
+  out.nodes = static_cast<int>(h.fine_volume.V.rows());
+  out.contacts = static_cast<int>(contact.contact_vertices()[0].size());
+  out.area = ContactArea(h.fine_surface).area(contact.contact_vertices()[0]);
+  out.penetration = contact.penetration()[0];
+  out.u = u;
+  // KKT: each contact force lambda n along the outward normal with lambda >= 0, and
+  // f_int(u) - f = sum lambda n on the free dofs.
+  Eigen::VectorXd contact_full = Eigen::VectorXd::Zero(body.dofs());
+  out.least_multiplier = std::numeric_limits<double>::infinity();
+  for (const auto& [node, force] : contact.node_forces()) {
+    const Eigen::Vector3d x = h.fine_volume.V.row(node).transpose() + u.segment<3>(3 * node);
+    const Eigen::Vector3d n = (x - centre.row(0).transpose()).normalized();
+    out.least_multiplier = std::min(out.least_multiplier, force.dot(n));
+    EXPECT_LT((force - force.dot(n) * n).norm(), 1e-12 * force.norm()) << "frictionless: along the normal";
+    contact_full.segment<3>(3 * node) += force;
+  }
+  Eigen::VectorXd f_int_free, contact_free;
+  body.to_free(*solve->internal_force(), f_int_free);
+  body.to_free(contact_full, contact_free);
+  out.equilibrium = (f_int_free - contact_free).norm() / contact_free.norm();
+  std::vector<Eigen::Vector3d> groups(3);
+  Eigen::Vector3d support;
+  body.reactions(u, contact_full, groups, support, solve->internal_force());
+  out.support = support + groups[0] + groups[1] + groups[2];
+  return out;
+}
+
+Indentation indent(const Level& level, double d, double nu) {
+  const double R = 1, L = level.L, E = 1;
+  const HybridMesh h = quarter_block(level.h0, level.core, level.q, L);
+  const Points& X = h.fine_volume.V;
+  const auto start = std::chrono::steady_clock::now();
+  const ElasticBody body = quarter_body(h, nu);
   std::unique_ptr<ElasticSolve> solve = make_direct_solve(body);
   SphereContact contact(body, *solve, h.fine_surface_to_volume);
   contact.set_candidate_margin(kMargin, kDepthFactor);
@@ -185,6 +250,7 @@ Indentation indent(const Level& level, double d, double nu) {
   out.penetration = contact.penetration()[0];
   out.candidates = contact.report()["largest_candidate_count"].get<int>();
   out.solves = contact.report()["flexibility_solves"].get<int>();
+  out.u = u;
   // The reactions of the support and the symmetry planes, the contact forces external.
   Eigen::VectorXd f = Eigen::VectorXd::Zero(body.dofs());
   for (const auto& [node, force] : contact.node_forces()) f.segment<3>(3 * node) += force;
@@ -245,6 +311,55 @@ TEST(SphereContact, DISABLED_HertzStudy) {
   }
 }
 
+/// Newton's contact on the Hertz indentation (the coarse level of the test above on
+/// a block of side 10 R, d = 0.01 R: a = 0.1 R, a small strain): the neo-Hookean force against Hertz and
+/// against the linear FEM's on the same mesh, and its KKT conditions at convergence.
+TEST(NewtonSphereContact, HertzIndentationNeoHookeanAgreesWithTheLinearContactAndHertz) {
+  const double d = 0.01, a = std::sqrt(d);
+  const Level level{a / 4, 1.25 * a, 1.3, 5};
+  const Indentation linear = indent(level, d, 0.3);
+  const Indentation neo = newton_indent(level, d, 0.3, "neo_hookean");
+  std::printf("Hertz d = 0.01 R: linear FEM F = %.6g (%+.4f), Newton neo-Hookean F = %.6g (%+.4f), %d / %d in contact, "
+              "neo / linear - 1 = %+.2e, %.1f s\n",
+              linear.force, linear.force / linear.hertz - 1, neo.force, neo.force / neo.hertz - 1, linear.contacts,
+              neo.contacts, neo.force / linear.force - 1, neo.seconds);
+  RecordProperty("neo_over_hertz", ::testing::PrintToString(neo.force / neo.hertz - 1));
+  RecordProperty("neo_over_linear", ::testing::PrintToString(neo.force / linear.force - 1));
+  // Measured: linear +7.39 %, neo-Hookean +6.83 % of Hertz (the P1 mesh's stiffness and the
+  // finite block, as in the linear test above), the neo-Hookean 0.52 % below the linear (the
+  // law's nonlinearity at a / R = 0.1); the direct solves are deterministic, so the bounds
+  // leave a tenth of a percentage point for rounding elsewhere.
+  EXPECT_LT(std::abs(neo.force / neo.hertz - 1 - 0.0683), 0.001);
+  EXPECT_LT(std::abs(neo.force / linear.force - 1 + 0.0052), 0.001);
+  // KKT at convergence.
+  EXPECT_LE(neo.penetration, 1e-9) << "no node inside the sphere beyond 1e-9 R";
+  EXPECT_GE(neo.least_multiplier, 0) << "no tensile multiplier";
+  EXPECT_LT(neo.equilibrium, 1e-8) << "f_int - f = the contact forces";
+  EXPECT_LT((neo.sphere + neo.support).norm(), 1e-8 * neo.sphere.norm()) << "the sphere's force balances the support's";
+}
+
+/// Newton with the linear law and the sphere solves the linear FEM's contact problem:
+/// the same answer as the active set on K (SphereContact), to the latter's tolerance:
+/// it re-linearises the normals until each active node is within 1e-6 r of the
+/// sphere, Newton until 1e-9 r. Measured 7.4e-8 (field) and 2.8e-7 (force), the same
+/// 17 nodes in contact; the bounds are three times that, not the 1e-8 Newton's own KKT
+/// residual reaches (HertzIndentation... checks it).
+TEST(NewtonSphereContact, LinearLawEqualsTheLinearActiveSetContact) {
+  const double d = 0.01, a = std::sqrt(d);
+  const Level level{a / 4, 1.25 * a, 1.3, 5};
+  const Indentation linear = indent(level, d, 0.3);
+  const Indentation newton = newton_indent(level, d, 0.3, "linear");
+  const double du = (newton.u - linear.u).norm() / linear.u.norm();
+  const double df = (newton.sphere - linear.sphere).norm() / linear.sphere.norm();
+  std::printf("linear law: |u_newton - u_linear| / |u| = %.2e, force %.2e, %d / %d in contact\n", du, df,
+              newton.contacts, linear.contacts);
+  RecordProperty("displacement_difference", ::testing::PrintToString(du));
+  RecordProperty("force_difference", ::testing::PrintToString(df));
+  EXPECT_EQ(newton.contacts, linear.contacts);
+  EXPECT_LT(du, 2.5e-7);
+  EXPECT_LT(df, 9e-7);
+}
+
 const HybridMesh& cube() { return testing::scenario_mesh("cube-pull"); }
 
 /// The sphere pressed into the cube's top then withdrawn: contact while pressed, none
@@ -257,11 +372,15 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
   for (const ModelInfo& info : registered_models()) {
     if (!info.takes(ToolKind::Sphere)) continue;
     ++models;
+    // The tet steppers (vbd, xpbd_neo, pd) cost tens of ms a frame on this mesh: a
+    // 50 ms step settles them in 100 frames (PBD's 300 cost less than one of theirs).
+    const bool tet_stepper = info.name == "vbd" || info.name == "xpbd_neo" || info.name == "pd";
+    const nlohmann::json given = tet_stepper ? nlohmann::json{{"time_step", 0.05}} : nlohmann::json::object();
     Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, {}, {Tool::sphere(above, R, "tools[0]")}},
-              resolve_parameters(info.parameters, {}, info.name), Points()};
+              resolve_parameters(info.parameters, given, info.name), Points()};
     auto m = info.create();
     m->setup(p);
-    const int frames = info.dynamic ? 300 : 1;
+    const int frames = tet_stepper ? 100 : info.dynamic ? 300 : 1;
     for (int f = 0; f < frames; ++f) m->step(FrameLoads{{}, {pressed}});
     const ToolContact on = (*m->tool_contacts())[0];
     const Eigen::Vector3d pushed = (*m->reaction_forces())[0];
@@ -279,8 +398,10 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
       }
       if (info.name == "fem")
         EXPECT_LE(on.points, on_sphere) << info.name;
-      else
+      else if (info.name == "pbd" || info.name == "hybrid")
         EXPECT_EQ(on.points, within) << info.name;
+      else  // the real-time FEMs: the nodes their last constraint step acted on, each on the sphere
+        EXPECT_LE(on.points, within) << info.name;
     }
     // The area: the contact vertices' vertex areas, of the order of the patch the
     // sphere pressed 1 cm cuts from the top (2 pi R d, the cap's area; Hertz's pi R d).
@@ -314,7 +435,7 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
     EXPECT_EQ(off.area, 0) << info.name;
     EXPECT_EQ((*m->reaction_forces())[0].norm(), 0) << info.name;
   }
-  EXPECT_EQ(models, 3) << "fem, pbd, hybrid";
+  EXPECT_EQ(models, 6) << "fem, pbd, hybrid, vbd, xpbd_neo, pd";
 }
 
 TEST(SphereContact, ModelsWithoutItRefuseItBeforeSetup) {
@@ -351,6 +472,32 @@ TEST(SphereContact, BadSpheresAreOneLineErrorsNamingTheKey) {
   EXPECT_EQ(error(Tool::sphere({0, 0, 0.1 + 0.05}, 0.05)), "no error") << "touching at the start is allowed";
 }
 
+/// The fem model with the Newton solver (and every nonlinear model that takes a
+/// sphere) checks its spheres as the linear FEM does (tool_vertices): a sphere
+/// starting too deep in the body, or with a radius that is not a number, is a
+/// one-line error naming the tool before anything is solved.
+TEST(NewtonSphereContact, BadSpheresAreOneLineErrorsInTheNonlinearModels) {
+  const std::vector<std::pair<std::string, nlohmann::json>> cases = {
+      {"fem", {{"solver", "newton"}}}, {"vbd", {}}, {"xpbd_neo", {}}, {"pd", {}}};
+  for (const auto& [model, parameters] : cases) {
+    const ModelInfo& info = find_model(model);
+    for (const Tool& bad : {Tool::sphere({0, 0, 0.12}, 0.05, "tools[0]"),
+                            Tool::sphere({0, 0, 0.2}, std::numeric_limits<double>::quiet_NaN(), "tools[0]")}) {
+      Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, {}, {bad}},
+                resolve_parameters(info.parameters, parameters, info.name), Points()};
+      auto m = info.create();
+      try {
+        m->setup(p);
+        ADD_FAILURE() << model << " took a bad sphere";
+      } catch (const std::invalid_argument& e) {
+        const std::string w = e.what();
+        EXPECT_NE(w.find("tools[0] (sphere): "), std::string::npos) << model << ": " << w;
+        EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+      }
+    }
+  }
+}
+
 /// A sphere pressed into the liver, a torus and an L-block (from above, onto the
 /// highest vertex) through every model that takes one: each runs, stays finite,
 /// pushes the surface, and no vertex is left inside (the FEM's and PBD's tolerance).
@@ -373,11 +520,16 @@ TEST(SphereContact, ASphereOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesO
     const Tool sphere = Tool::sphere(start, R);
     for (const ModelInfo& info : registered_models()) {
       if (!info.takes(ToolKind::Sphere)) continue;
-      Problem p{mesh, Material{}, LoadCase{support, {}, {sphere}}, resolve_parameters(info.parameters, {}, info.name),
+      // VBD and XPBD with a 50 ms step over 100 frames (as in the test above); PD keeps its
+      // 10 ms: with 50 ms and 10 iterations a frame its gaps did not close on the liver and
+      // the L-block (2.6 and 4.6 mm inside at the end).
+      const bool tet_stepper = info.name == "vbd" || info.name == "xpbd_neo";
+      const nlohmann::json given = tet_stepper ? nlohmann::json{{"time_step", 0.05}} : nlohmann::json::object();
+      Problem p{mesh, Material{}, LoadCase{support, {}, {sphere}}, resolve_parameters(info.parameters, given, info.name),
                 Points()};
       auto m = info.create();
       m->setup(p);
-      const int frames = info.dynamic ? 200 : 5;
+      const int frames = tet_stepper ? 100 : info.dynamic ? 200 : 5;
       for (int f = 0; f < frames; ++f)
         m->step(FrameLoads{{}, {start - Eigen::Vector3d(0, 0, 0.005 * std::min(1.0, (f + 1.0) / (frames / 2)))}});
       const Displacements& u = m->surface_displacement();
@@ -386,7 +538,11 @@ TEST(SphereContact, ASphereOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesO
       const ToolContact c = (*m->tool_contacts())[0];
       EXPECT_GT(c.points, 0) << name << " " << info.name;
       if (info.name != "hybrid") {  // the hybrid's control points follow the coarse FEM, not the sphere
-        EXPECT_LE(c.max_penetration, info.dynamic ? 1e-6 : 1e-9 * R) << name << " " << info.name;
+        // PD closes the gaps of its contact set in each iteration, and a node that enters in a
+        // frame's last iteration stays inside until the next: on the liver 5.5e-6 m measured
+        // (200 frames of 10 ms); its bound is 1e-5 m, the others' 1e-6 m (dynamic) and 1e-9 R (static).
+        const double bound = info.name == "pd" ? 1e-5 : info.dynamic ? 1e-6 : 1e-9 * R;
+        EXPECT_LE(c.max_penetration, bound) << name << " " << info.name;
       }
       RecordProperty(name + "_" + info.name + "_penetration", ::testing::PrintToString(c.max_penetration));
     }

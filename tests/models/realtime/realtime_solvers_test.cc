@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 
 #include "default_steppers.h"
@@ -96,6 +97,72 @@ TEST_P(SettledStepper, EqualsTheStaticNewtonAnswerUnderAPlate) {
   EXPECT_LT(expected_force[0].z(), 0);  // the tissue pulls the plate down
   RecordProperty(s.name + "_plate_frames", frames);
   RecordProperty(s.name + "_plate_relative_error", ::testing::PrintToString((u - expected).norm() / expected.norm()));
+}
+
+// A rigid frictionless sphere of radius a / 2 pressed 4 mm (10 % of the cube) into
+// the top centre, ramped over 10 frames and held: the settled field and the
+// sphere's force equal the static Newton contact of the same law on the same mesh
+// (newton_solve.cc), several surface nodes in contact. Each stepper's contact
+// (VBD: the gap in the vertex's Newton step; XPBD: a projection after each sweep;
+// PD: the gaps as constraints of the global step) has that equilibrium as its fixed
+// point; the force is the normal part of the implicit-Euler balance at the contact
+// nodes (tet_time_stepping.h).
+TEST_P(SettledStepper, EqualsTheStaticNewtonContactUnderASphere) {
+  const Stepper& s = GetParam();
+  const SmallCube c;
+  const ElasticBody body(c.mesh, kMaterial, c.clamped());
+  const BodyLoads none(body, {});
+  std::vector<int> surface;  // the box's boundary nodes (the clamped ones are skipped as held)
+  for (Eigen::Index v = 0; v < c.mesh.V.rows(); ++v) {
+    bool on = false;
+    for (int i = 0; i < 3; ++i) on = on || c.mesh.V(v, i) < 1e-12 || c.mesh.V(v, i) > c.a - 1e-12;
+    if (on) surface.push_back(static_cast<int>(v));
+  }
+  const double R = c.a / 2, d = 0.1 * c.a;
+  Eigen::MatrixX3d centre(1, 3);
+  const Eigen::VectorXd radius = Eigen::VectorXd::Constant(1, R);
+  auto press = [&](ElasticSolve& solve, double depth) {
+    centre << c.a / 2, c.a / 2, c.a + R - depth;
+    solve.spheres()->set(centre, radius);
+  };
+  auto newton = testing::make_solve(
+      body, {{"solver", "newton"}, {"material_law", s.law}, {"newton_tolerance", 1e-12}, {"newton_load_steps", 4}});
+  newton->enable_spheres(surface);
+  ElasticFrame newton_frame(body, none, *newton);
+  Eigen::VectorXd expected;
+  for (double depth : {0.0, d}) {
+    press(*newton, depth);
+    newton_frame.step({}, {}, expected);
+  }
+  const Eigen::Vector3d expected_force = newton->spheres()->forces()[0];
+  const int expected_contacts = static_cast<int>(newton->spheres()->contact_vertices()[0].size());
+  ASSERT_GE(expected_contacts, 3) << "several nodes in contact";
+  auto stepper = s.make(body);
+  stepper->enable_spheres(surface);
+  ElasticFrame frame(body, none, *stepper);
+  Eigen::VectorXd u;
+  for (int f = 1; f <= 10; ++f) {
+    press(*stepper, d * f / 10.0);
+    frame.step({}, {}, u);
+  }
+  const int frames = settle(frame, {}, {}, u, s.max_frames);
+  const double error = (u - expected).norm() / expected.norm();
+  const Eigen::Vector3d force = stepper->spheres()->forces()[0];
+  const double force_error = (force - expected_force).norm() / expected_force.norm();
+  std::printf("%s sphere: %d frames, field %.2e, force %.2e (Newton %.6g N, %d in contact; here %d), depth %.1e\n",
+              s.name.c_str(), frames, error, force_error, expected_force.z(), expected_contacts,
+              static_cast<int>(stepper->spheres()->contact_vertices()[0].size()), stepper->spheres()->penetration()[0]);
+  // XPBD's fixed point is not the law's equilibrium (SettledStepper's tolerance); with
+  // the sphere its bias measured 3.5e-3 (field) and 5.9e-3 (force) at 40 sub-steps of
+  // 10 ms: bounded at twice that. VBD and PD: 1e-6 (measured 1e-11 to 1e-12 for VBD).
+  const double tolerance = s.name == "xpbd_neo" ? 1.2e-2 : s.tolerance;
+  EXPECT_LE(frames, s.max_frames) << s.name;
+  EXPECT_LT(error, tolerance) << s.name;
+  EXPECT_LT(force_error, tolerance) << s.name;
+  EXPECT_GT(expected_force.z(), 0) << "the tissue pushes the sphere up";
+  RecordProperty(s.name + "_sphere_frames", frames);
+  RecordProperty(s.name + "_sphere_relative_error", ::testing::PrintToString(error));
+  RecordProperty(s.name + "_sphere_force_error", ::testing::PrintToString(force_error));
 }
 
 INSTANTIATE_TEST_SUITE_P(Steppers, SettledStepper, ::testing::ValuesIn(steppers()),
