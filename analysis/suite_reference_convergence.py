@@ -57,6 +57,9 @@ CUBE_LOAD_POINT = np.array([0.0, 0.0, 0.1])
 # Roles with a tool whose reaction is a QoI, with a probe, on the Truth Cube.
 TOOL_ROLES = ("truth_cube", "liver_grasp", "torus_grasp", "l_block_grasp")
 PROBE_ROLES = ("liver_grasp_gravity", "flap_gravity")
+# Suite scenarios this study does not solve, and why (declared all the same, so that
+# every scenario of the leaderboard says where its reference's error stands).
+NOT_ESTIMATED = {"cube_palpation": "not estimated: the sphere's contact reference is another study's"}
 QOI_LABELS = {"load_uz_mm": "load-point u_z (mm)", "tool_fz_n": "tool force z (N)", "probe_mm": "probe |u| (mm)",
               "bead_rms_mm": "bead RMS vs CT (mm)", "bulge_mm": "bulge (mm)"}
 
@@ -277,7 +280,8 @@ def make(root, out, data_flag, errors_path):
            "docs/reference_convergence.md, 'Every suite scenario'). field_error: relative L2 of the observed "
            "surface displacement of the suite's reference (P1 level 0) against the converged field; qoi: its "
            "quantities of interest with their Richardson estimates (null: fewer than two levels).",
-           "scenarios": decl}
+           "scenarios": dict(decl, **{role: {"field_error": None, "note": note}
+                                      for role, note in NOT_ESTIMATED.items() if role not in decl})}
     with open(errors_path, "w") as f:
         json.dump(doc, f, indent=2, sort_keys=True)
         f.write("\n")
