@@ -230,7 +230,8 @@ def declared(rows):
         "field_error": max(candidates) if candidates else None,
         "field_error_how": (f"max(Richardson on P1 levels {sorted(k[1] for k in by_key if k[0] == 1)} "
                             f"({ref['field_how']}), change against P{finest[0]} L{finest[1]})"),
-        "qoi": {name: {"value": v, "error": (lambda e: None if e != e else e)(ref["qoi_error"].get(name, (math.nan,))[0])}
+        "qoi": {name: {"value": v, "finest_value": fin["qoi"].get(name),
+                       "error": (lambda e: None if e != e else e)(ref["qoi_error"].get(name, (math.nan,))[0])}
                 for name, v in ref["qoi"].items()},
         "converged": {"order": finest[0], "level": finest[1], "dofs": fin["dofs"],
                       "field_error": None if fin["field_error"] != fin["field_error"] else fin["field_error"],

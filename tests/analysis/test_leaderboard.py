@@ -132,6 +132,8 @@ class Leaderboard(unittest.TestCase):
             errors = os.path.join(tmp, "errors.json")
             with open(errors, "w") as f:
                 json.dump({"scenarios": {"torus_grasp": {"field_error": 0.0123, "converged": {"order": 1, "level": 2}},
+                                         "truth_cube_5": {"field_error": 0.2, "converged": {"order": 2, "level": 0},
+                                                          "qoi": {"bead_rms_mm": {"value": 1.0, "finest_value": 0.8}}},
                                          "cube_pull_disc": {"field_error": None, "note": "one level only"}}}, f)
             leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
             header, *rows = read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))
@@ -139,6 +141,10 @@ class Leaderboard(unittest.TestCase):
             board = {r[0]: r for r in rows}
             self.assertEqual(board["torus_grasp"][-1], "0.0123 (vs P1 L2)")
             self.assertEqual(board["cube_pull_disc"][-1], "one level only")
+            self.assertEqual(leaderboard.reference_error_text(
+                {"field_error": 0.2, "converged": {"order": 2, "level": 0},
+                 "qoi": {"bead_rms_mm": {"value": 1.0, "finest_value": 0.8}}}),
+                "0.2 (vs P2 L0); bead RMS 1.00 mm (P2 L0: 0.80)")
             with open(os.path.join(tmp, "tables", "suite_scores.md")) as f:
                 self.assertIn("- torus_grasp: reference's estimated discretisation error (relative L2 of the field): "
                               "0.0123 (vs P1 L2)", f.read())

@@ -48,7 +48,8 @@ CG_TOLERANCE = 1e-10
 # nodes (the suite's mesh, for the estimated dofs that order the runs))
 SCENARIOS = {
     "cube_pull_disc": ("cube-pull-disc.json", "distributed", [0, 1, 2], [0, 1], 5, 3114),
-    "cube_push_disc": ("cube-push-disc.json", "distributed", [0, 1, 2], [0, 1], 5, 3114),
+    # P2 under the push: level 0 did not finish (stopped after 552 s; the pull's took 79 s), so no level 1.
+    "cube_push_disc": ("cube-push-disc.json", "distributed", [0, 1, 2], [0], 5, 3114),
     "truth_cube_5": ("truth-cube-05.json", "distributed", [0], [0], 2, 7668),
     "truth_cube_12_5": ("truth-cube-125.json", "distributed", [0], [0], 4, 7668),
     "truth_cube_18_25": ("truth-cube-1825.json", "distributed", [0, 1], [0], 5, 7668),
@@ -70,7 +71,7 @@ P2_NODE_FACTOR = 7
 # step on level 0 against 14 on the cube).
 LARGE_ORDER = [("cube_pull_disc", 1, 2), ("cube_pull_disc", 2, 1), ("truth_cube_5", 0, 2),
                ("truth_cube_12_5", 0, 2), ("truth_cube_18_25", 0, 2), ("truth_cube_18_25", 1, 1),
-               ("cube_push_disc", 2, 1), ("cube_push_disc", 1, 2)]
+               ("cube_push_disc", 2, 1)]
 
 def case(solver, degree, steps):
     if solver == "serial":
