@@ -27,8 +27,8 @@ to observe, and p is assumed: 2 for P1 and 3 for P2 (the L2 orders of the displa
 on a smooth solution; smaller where the solution is singular: a clamp's edge, a grasp's
 rim). The extrapolated Q* = Q_f + (Q_f - Q_{f-1}) / (r^p - 1) from the two finest, and
 each level's estimated error is |Q_k - Q*| (the field: ||u_k - u*|| / ||u*||). An observed
-p outside [0.5, 2 x the assumed one], or changes that do not shrink, are not trusted: the
-assumed p is used and the row says so.
+p outside [0.5, the assumed one + 1] (a pre-asymptotic or cancelling sequence), or changes
+that do not shrink, are not trusted: the assumed p is used and the row says so.
 """
 import argparse
 import csv
@@ -118,7 +118,7 @@ def richardson(values, dofs, order):
         d1 = float(np.linalg.norm(values[-1] - values[-2]))
         r = math.sqrt(ratios[-2] * ratios[-1])
         observed = math.log(d0 / d1) / math.log(r) if d0 > 0 and d1 > 0 else float("nan")
-        if 0.5 <= observed <= 2 * ASSUMED_ORDER[order]:
+        if 0.5 <= observed <= ASSUMED_ORDER[order] + 1:
             p, how = observed, f"observed p = {observed:.2f} (three levels)"
         else:
             how = f"observed p = {observed:.2f} not trusted; assumed p = {ASSUMED_ORDER[order]:g}"
@@ -257,6 +257,17 @@ def make(root, out, data_flag, errors_path):
             cost_table.append([role, r["level"], f"P{r['order']}", r["dofs"], c["ranks"], c["newton"],
                                fmt(c["setup_s"], 1), fmt(c["solve_s"], 1), fmt(c["wall_s"], 1),
                                fmt(c["peak_mib"] / 1024, 2), c["load"]])
+    # Cases that ran and left no results (Newton failed, or stopped at TIMEOUT): their cost.
+    done = {(os.path.basename(os.path.dirname(c["folder"])), c["name"])
+            for role in study.cases.values() for c in role.values()}
+    unfinished = []
+    for (scenario, case), proc in sorted(study.process.items()):
+        p = parse(scenario)
+        if p and (scenario, case) not in done and proc.get("status") != "ok":
+            unfinished.append(f"- {p[0]} level {p[1]} P{p[2]}: {proc['status']} after {float(proc['wall_s']):.0f} s "
+                              f"({proc['ranks']} rank(s), load average {proc['load_before']} / {proc['load_after']})")
+    unfinished_note = ("\n\nRun and not finished (no results; the wall time it cost):\n" + "\n".join(unfinished)
+                       if unfinished else "")
     tables = os.path.join(out, "tables")
     write_table(tables, "suite_reference_convergence",
                 ["scenario (role)", "level", "order", "dofs", "QoIs (± Richardson estimate of the error)",
@@ -268,14 +279,15 @@ def make(root, out, data_flag, errors_path):
                 "level-0 vertices. The suite scores every model against P1 level 0 (the suite's own mesh). "
                 "Richardson: analysis/suite_reference_convergence.py's docstring. Wall: the whole process "
                 "(TetGen included) on a loaded machine (2 cores shared with other jobs; the load average is in "
-                "results/tables/suite_reference_cost.md).")
+                "results/tables/suite_reference_cost.md)." + unfinished_note)
     write_table(tables, "suite_reference_cost",
                 ["scenario (role)", "level", "order", "dofs", "ranks", "Newton iterations", "setup (s)", "solve (s)",
                  "wall (s)", "peak memory, all ranks (GiB)", "load average before / after"],
                 cost_table,
                 "Setup: mesh, dofs, assembly; solve: the Newton solve with its load increments. Wall: the whole "
                 "process, TetGen included. Intel Xeon, 2 vCPUs shared with other jobs (the machine's 1-minute load "
-                "average before and after each case is given): the times measure the load as much as the solver.")
+                "average before and after each case is given): the times measure the load as much as the solver."
+                + unfinished_note)
     doc = {"description": "Each suite scenario's reference and its estimated discretisation error (written by "
            "analysis/suite_reference_convergence.py from results/suite_reference_convergence; "
            "docs/reference_convergence.md, 'Every suite scenario'). field_error: relative L2 of the observed "
