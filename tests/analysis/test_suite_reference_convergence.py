@@ -71,6 +71,8 @@ class SuiteReferenceConvergence(unittest.TestCase):
             for level in range(3):  # P1, h halved per level (dofs x 8): u_k = u* + SHAPE h_k^2
                 write_case(root, "cube_pull_disc", level, 1, U_STAR + SHAPE * 0.25 ** level, 1000 * 8 ** level)
             write_case(root, "cube_pull_disc", 0, 2, U_STAR + SHAPE * 0.01, 7000)  # a lower level than P1's finest
+            with open(os.path.join(root, "cases.csv"), "a") as f:  # a case that ran and left nothing
+                f.write("sref-cube-pull-disc-L1-p2,neo-p2,2,600.5,3.0,2.5,timeout\n")
             errors_path = os.path.join(tmp, "errors.json")
             decl = src.make(root, tmp, None, errors_path)["cube_pull_disc"]
             rel = np.linalg.norm(SHAPE) / np.linalg.norm(U_STAR)
@@ -85,6 +87,7 @@ class SuiteReferenceConvergence(unittest.TestCase):
                 md = f.read()
             self.assertIn("observed p = 2.00 (three levels)", md)
             self.assertIn("load-point u_z (mm) 22 ± 8", md)
+            self.assertIn("- cube_pull_disc level 1 P2: timeout after 600 s (2 rank(s), load average 3.0 / 2.5)", md)
             with open(os.path.join(tmp, "tables", "suite_reference_cost.md")) as f:
                 self.assertIn("| cube_pull_disc | 2 | P1 | 64000 | 1 | 7 | 0.5 | 1.0 | 1.5 | 0.10 | 1.0 / 2.0 |", f.read())
             # The leaderboard's reader takes the file as written.
