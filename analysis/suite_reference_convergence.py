@@ -60,6 +60,10 @@ PROBE_ROLES = ("liver_grasp_gravity", "flap_gravity")
 # Suite scenarios this study does not solve, and why (declared all the same, so that
 # every scenario of the leaderboard says where its reference's error stands).
 NOT_ESTIMATED = {"cube_palpation": "not estimated: the sphere's contact reference is another study's"}
+# cases.csv's status of a case that left no results: scripts/suite_reference_convergence
+# writes failed or timeout; "stopped" is written by hand for a case stopped to free the
+# cores for others.
+UNFINISHED = {"failed": "failed", "timeout": "stopped at TIMEOUT", "stopped": "stopped by hand (not converged yet)"}
 QOI_LABELS = {"load_uz_mm": "load-point u_z (mm)", "tool_fz_n": "tool force z (N)", "probe_mm": "probe |u| (mm)",
               "bead_rms_mm": "bead RMS vs CT (mm)", "bulge_mm": "bulge (mm)"}
 
@@ -264,7 +268,8 @@ def make(root, out, data_flag, errors_path):
     for (scenario, case), proc in sorted(study.process.items()):
         p = parse(scenario)
         if p and (scenario, case) not in done and proc.get("status") != "ok":
-            unfinished.append(f"- {p[0]} level {p[1]} P{p[2]}: {proc['status']} after {float(proc['wall_s']):.0f} s "
+            how = UNFINISHED.get(proc["status"], proc["status"])
+            unfinished.append(f"- {p[0]} level {p[1]} P{p[2]}: {how} after {float(proc['wall_s']):.0f} s "
                               f"({proc['ranks']} rank(s), load average {proc['load_before']} / {proc['load_after']})")
     unfinished_note = ("\n\nRun and not finished (no results; the wall time it cost):\n" + "\n".join(unfinished)
                        if unfinished else "")
