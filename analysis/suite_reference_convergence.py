@@ -237,6 +237,7 @@ def declared(rows):
         "qoi": {name: {"value": v, "finest_value": fin["qoi"].get(name),
                        "error": (lambda e: None if e != e else e)(ref["qoi_error"].get(name, (math.nan,))[0])}
                 for name, v in ref["qoi"].items()},
+        "note": "not estimated: no other level or order of it finished" if finest == (1, 0) else "",
         "converged": {"order": finest[0], "level": finest[1], "dofs": fin["dofs"],
                       "field_error": None if fin["field_error"] != fin["field_error"] else fin["field_error"],
                       "field_error_how": fin["field_how"]},
