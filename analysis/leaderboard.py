@@ -69,9 +69,10 @@ def read_reference_errors(path):
         return {}
     with open(path) as f:
         doc = json.load(f)
-    if not isinstance(doc.get("scenarios"), dict):
-        raise ResultsError(f"{path}: no 'scenarios' object")
-    return doc["scenarios"]
+    # "roles", not "scenarios": an experiments/*.json with "scenarios" is an experiment file.
+    if not isinstance(doc.get("roles"), dict):
+        raise ResultsError(f"{path}: no 'roles' object")
+    return doc["roles"]
 
 
 def reference_error_text(entry):

@@ -299,7 +299,7 @@ def make(root, out, data_flag, errors_path):
            "docs/reference_convergence.md, 'Every suite scenario'). field_error: relative L2 of the observed "
            "surface displacement of the suite's reference (P1 level 0) against the converged field; qoi: its "
            "quantities of interest with their Richardson estimates (null: fewer than two levels).",
-           "scenarios": dict(decl, **{role: {"field_error": None, "note": note}
+           "roles": dict(decl, **{role: {"field_error": None, "note": note}
                                       for role, note in NOT_ESTIMATED.items() if role not in decl})}
     with open(errors_path, "w") as f:
         json.dump(doc, f, indent=2, sort_keys=True)

@@ -131,7 +131,7 @@ class Leaderboard(unittest.TestCase):
             exp = write_suite(tmp)
             errors = os.path.join(tmp, "errors.json")
             with open(errors, "w") as f:
-                json.dump({"scenarios": {"torus_grasp": {"field_error": 0.0123, "converged": {"order": 1, "level": 2}},
+                json.dump({"roles": {"torus_grasp": {"field_error": 0.0123, "converged": {"order": 1, "level": 2}},
                                          "truth_cube_5": {"field_error": 0.2, "converged": {"order": 2, "level": 0},
                                                           "qoi": {"bead_rms_mm": {"value": 1.0, "finest_value": 0.8}}},
                                          "cube_pull_disc": {"field_error": None, "note": "one level only"}}}, f)
@@ -150,13 +150,13 @@ class Leaderboard(unittest.TestCase):
                               "0.0123 (vs P1 L2)", f.read())
             # A scenario the file does not declare says so; a file without its object is a one-line error.
             with open(errors, "w") as f:
-                json.dump({"scenarios": {}}, f)
+                json.dump({"roles": {}}, f)
             leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
             board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
             self.assertEqual(board["torus_grasp"][-1], "not estimated")
             with open(errors, "w") as f:
-                json.dump({"roles": {}}, f)
-            with self.assertRaisesRegex(leaderboard.ResultsError, "no 'scenarios' object"):
+                json.dump({"scenarios": {}}, f)
+            with self.assertRaisesRegex(leaderboard.ResultsError, "no 'roles' object"):
                 leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
 
     def test_a_model_run_alone_is_scored_beside_the_committed_results(self):
