@@ -19,8 +19,8 @@ Quantities of interest (QoIs):
   plate: the tool's reaction force (its z component, N); the liver and the flap: |u| at
   the probe; the Truth Cube: the RMS bead error against the CT-measured beads (mm) and
   the largest horizontal displacement of the surface (its bulge, mm).
-Richardson (Roache 1998, "Verification and Validation in Computational Science and
-Engineering", eqs. 5.4.1 and 5.10.6.1): on levels with mesh ratio r (h_k / h_{k+1}, from
+Richardson (generalised Richardson extrapolation and the observed order: Roache 1998,
+"Verification and Validation in Computational Science and Engineering", ch. 5): on levels with mesh ratio r (h_k / h_{k+1}, from
 the dofs: (n_{k+1} / n_k)^(1/3)) a QoI behaves as Q_k = Q + C h_k^p. Three levels of
 one order give the observed p = ln((Q_1 - Q_0) / (Q_2 - Q_1)) / ln r; two give nothing
 to observe, and p is assumed: 2 for P1 and 3 for P2 (the L2 orders of the displacement
