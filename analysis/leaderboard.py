@@ -16,6 +16,7 @@ docs/suite.md says what each number means.
 """
 import argparse
 import csv
+import json
 import math
 import os
 import sys
@@ -54,6 +55,39 @@ def field_error(case, ref):
         raise ResultsError(f"{case['folder']}: observed vertices differ from {ref['folder']}'s (another mesh?)")
     m = metrics.compare(u, u_ref, rest, rest[0])
     return m["rel_l2"], m["max_error"]
+
+
+REFERENCE_ERRORS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "experiments",
+                                "suite_reference_errors.json")
+
+
+def read_reference_errors(path):
+    """{role: declared entry} of the reference-error file (analysis/suite_reference_convergence.py
+    writes it: each scenario's reference and its estimated discretisation error), {} when
+    path is None or the file is not there."""
+    if not path or not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        doc = json.load(f)
+    # "roles", not "scenarios": an experiments/*.json with "scenarios" is an experiment file.
+    if not isinstance(doc.get("roles"), dict):
+        raise ResultsError(f"{path}: no 'roles' object")
+    return doc["roles"]
+
+
+def reference_error_text(entry):
+    """The reference's estimated discretisation error, for a table cell: the relative L2 of
+    its observed field against the converged one (docs/reference_convergence.md), or why none."""
+    if entry is None:
+        return "not estimated"
+    if entry.get("field_error") is None:
+        return entry.get("note", "not estimated")
+    finest = "P%d L%d" % (entry["converged"]["order"], entry["converged"]["level"])
+    text = f"{sig(entry['field_error'])} (vs {finest})"
+    beads = entry.get("qoi", {}).get("bead_rms_mm", {})
+    if beads.get("finest_value") is not None:  # the Truth Cube ranks by the beads: their RMS on both
+        text += f"; bead RMS {beads['value']:.2f} mm ({finest}: {beads['finest_value']:.2f})"
+    return text
 
 
 def read_trajectory(folder):
@@ -276,10 +310,14 @@ def add_cases_from(exp, other_results, ref_name):
     return added
 
 
-def make(results, out, data_flag, figures=True, with_results=None):
+def make(results, out, data_flag, figures=True, with_results=None, reference_errors=REFERENCE_ERRORS):
     """Writes the tables (and figures); returns {role: [scores]}. with_results: a
-    second results tree whose cases are scored beside the first's (add_cases_from)."""
+    second results tree whose cases are scored beside the first's (add_cases_from).
+    reference_errors: the file of each scenario's reference and its estimated
+    discretisation error (read_reference_errors), carried beside each scenario."""
     exp = results_index.Experiment(results)
+    declared = read_reference_errors(reference_errors)
+    error_notes = []
     ref_name = exp.require_reference()
     added = add_cases_from(exp, with_results, ref_name) if with_results else set()
     beads = None
@@ -320,7 +358,11 @@ def make(results, out, data_flag, figures=True, with_results=None):
             best = best_within(scores, key, budget)
             row.append("none fits" if best is None else
                        f"{best['case']} {sig(best[key])}{'' if best['settled'] else ' (not settled)'}")
+        row.append(reference_error_text(declared.get(role)))
         board_rows.append(row)
+        if role in declared:
+            error_notes.append(f"- {role}: {ref_name}'s estimated discretisation error (relative L2 of the field): "
+                               f"{reference_error_text(declared[role])}")
         skipped = not_run_cases(exp, scenario)
         if skipped:
             notes.append(f"- {role}: not run: " + "; ".join(f"{c} ({r})" for c, r in skipped))
@@ -333,18 +375,25 @@ def make(results, out, data_flag, figures=True, with_results=None):
     all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.scenario(exp.scenario_name(role)).items()}
     machine = machine_note(all_cases, "threads as each case's parameters say (one unless a `threads` is given)")
     legend = case_legend({c["name"]: c for c in all_cases.values()})
+    reference_note = ("\n\nThe reference is a discretisation too; its estimated error per scenario "
+                      "(docs/reference_convergence.md, 'Every suite scenario'):\n" + "\n".join(error_notes)
+                      if error_notes else "")
     write_table(tables, "suite_scores",
                 ["role", "case", "model", "rel L2 vs reference", "max error (mm)", "probe error (mm)",
                  "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "transient error (rel)",
                  "transient max error (mm)", "median (ms)", "p95 (ms)",
                  "setup (ms)", "peak memory (MiB)", "frames", "settled"],
-                score_rows, machine + "\n\n" + legend)
+                score_rows, machine + "\n\n" + legend + reference_note)
     write_table(tables, "leaderboard",
-                ["scenario (role)", "reference (ranked by)"] + [f"best within {b:g} ms" for b in BUDGETS_MS],
+                ["scenario (role)", "reference (ranked by)"] + [f"best within {b:g} ms" for b in BUDGETS_MS]
+                + ["reference's own error (est.)"],
                 board_rows,
                 "Each cell: the case with the smallest error among those whose median frame fits the budget, "
                 "and that error (relative L2 of the observed surface against the scenario's reference case; "
-                "on the Truth Cube, the RMS bead error in mm). " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
+                "on the Truth Cube, the RMS bead error in mm). The reference's own error: the estimated "
+                "discretisation error of the reference case's field (relative L2 against the converged field of the "
+                "run named, docs/reference_convergence.md, 'Every suite scenario'): errors below it rank models "
+                "on what the reference cannot resolve. " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
     return everything
 
 
@@ -373,12 +422,15 @@ def main():
     parser.add_argument("--data-dir", default=None)
     parser.add_argument("--no-figures", action="store_true")
     parser.add_argument("--readme", default=None, help="also copy the leaderboard into this README's markers")
+    parser.add_argument("--reference-errors", default=REFERENCE_ERRORS,
+                        help="each scenario's reference and its estimated discretisation error (JSON; "
+                        "analysis/suite_reference_convergence.py writes it)")
     parser.add_argument("--with", dest="with_results", default=None,
                         help="another run of the suite (e.g. one model's, --model) scored beside RESULTS")
     a = parser.parse_args()
 
     def run():
-        make(a.results, a.out, a.data_dir, not a.no_figures, a.with_results)
+        make(a.results, a.out, a.data_dir, not a.no_figures, a.with_results, a.reference_errors)
         if a.readme:
             update_readme(a.readme, os.path.join(a.out, "tables"))
     results_index.main(run, "leaderboard")

@@ -111,7 +111,7 @@ class Leaderboard(unittest.TestCase):
             board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
             # 0.1 ms: only embedded fits; 1 ms: the extra model (0.5 ms, error 0.1) beats embedded and pbd;
             # 16 ms: fem-linear (0.2) loses to it too; vbd (60 ms) fits no budget.
-            self.assertEqual(board["cube_pull_disc"][2:], ["embedded 0.5", "mymodel 0.1", "mymodel 0.1"])
+            self.assertEqual(board["cube_pull_disc"][2:5], ["embedded 0.5", "mymodel 0.1", "mymodel 0.1"])
             with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
                 md = f.read()
             self.assertIn("torus_grasp: not run: condensed (model 'condensed' does not take grasp)", md)
@@ -125,6 +125,39 @@ class Leaderboard(unittest.TestCase):
             self.assertNotIn("old table", text)
             self.assertIn("| cube_pull_disc | fem (field) | embedded 0.5 |", text)
             self.assertTrue(text.startswith("intro\n") and text.endswith("rest\n"))
+
+    def test_the_reference_s_estimated_error_is_carried_beside_each_scenario(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            errors = os.path.join(tmp, "errors.json")
+            with open(errors, "w") as f:
+                json.dump({"roles": {"torus_grasp": {"field_error": 0.0123, "converged": {"order": 1, "level": 2}},
+                                         "truth_cube_5": {"field_error": 0.2, "converged": {"order": 2, "level": 0},
+                                                          "qoi": {"bead_rms_mm": {"value": 1.0, "finest_value": 0.8}}},
+                                         "cube_pull_disc": {"field_error": None, "note": "one level only"}}}, f)
+            leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
+            header, *rows = read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))
+            self.assertEqual(header[-1], "reference's own error (est.)")
+            board = {r[0]: r for r in rows}
+            self.assertEqual(board["torus_grasp"][-1], "0.0123 (vs P1 L2)")
+            self.assertEqual(board["cube_pull_disc"][-1], "one level only")
+            self.assertEqual(leaderboard.reference_error_text(
+                {"field_error": 0.2, "converged": {"order": 2, "level": 0},
+                 "qoi": {"bead_rms_mm": {"value": 1.0, "finest_value": 0.8}}}),
+                "0.2 (vs P2 L0); bead RMS 1.00 mm (P2 L0: 0.80)")
+            with open(os.path.join(tmp, "tables", "suite_scores.md")) as f:
+                self.assertIn("- torus_grasp: reference's estimated discretisation error (relative L2 of the field): "
+                              "0.0123 (vs P1 L2)", f.read())
+            # A scenario the file does not declare says so; a file without its object is a one-line error.
+            with open(errors, "w") as f:
+                json.dump({"roles": {}}, f)
+            leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
+            board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
+            self.assertEqual(board["torus_grasp"][-1], "not estimated")
+            with open(errors, "w") as f:
+                json.dump({"scenarios": {}}, f)
+            with self.assertRaisesRegex(leaderboard.ResultsError, "no 'roles' object"):
+                leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors)
 
     def test_a_model_run_alone_is_scored_beside_the_committed_results(self):
         with tempfile.TemporaryDirectory() as tmp:
