@@ -59,7 +59,7 @@ TOOL_ROLES = ("truth_cube", "liver_grasp", "torus_grasp", "l_block_grasp")
 PROBE_ROLES = ("liver_grasp_gravity", "flap_gravity")
 # Suite scenarios this study does not solve, and why (declared all the same, so that
 # every scenario of the leaderboard says where its reference's error stands).
-NOT_ESTIMATED = {"cube_palpation": "not estimated: the sphere's contact reference is another study's"}
+NOT_ESTIMATED = {"cube_palpation": "not estimated: the study does not refine the Newton contact solve"}
 # cases.csv's status of a case that left no results: scripts/suite_reference_convergence
 # writes failed or timeout; "stopped" is written by hand for a case stopped to free the
 # cores for others.

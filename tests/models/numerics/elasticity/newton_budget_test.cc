@@ -13,30 +13,16 @@
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "load_mapping.h"
+#include "models/realtime/settled_cube.h"
 #include "tet_element.h"
 #include "test_support.h"
 
 namespace tb {
 namespace {
 
-const Material kMaterial{3000, 0.45, 1000};
-constexpr double a = 0.04;
-
-/// A 4 cm cube clamped at z = 0, its top face optionally one prescribed group.
-struct Cube {
-  TetMesh mesh = testing::box_mesh(a, a, a, 4, 4, 4, 2e-6);
-  std::vector<char> clamped() const {
-    std::vector<char> c(static_cast<size_t>(mesh.V.rows()), 0);
-    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) c[static_cast<size_t>(v)] = mesh.V(v, 2) < 1e-12;
-    return c;
-  }
-  std::vector<PrescribedGroup> top_plate() const {
-    PrescribedGroup g;
-    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
-      if (mesh.V(v, 2) > a - 1e-12) g.nodes.push_back(static_cast<int>(v));
-    return {g};
-  }
-};
+using Cube = testing::SmallCube;  // 4 cm, clamped at z = 0, E = 3 kPa, nu = 0.45
+using testing::kMaterial;
+constexpr double a = Cube::a;
 
 std::unique_ptr<ElasticSolve> newton(const ElasticBody& body, int budget, double tolerance = 1e-10) {
   return testing::make_solve(body, {{"solver", "newton"},
