@@ -566,21 +566,30 @@ class NewtonSolve : public ElasticSolve {
     return deepest_outside_set(u) <= 0;
   }
 
-  /// How deep (in units of kGapTolerance r) the deepest free surface node outside the set is inside a sphere.
-  double deepest_outside_set(const Eigen::VectorXd& u) const {
-    double worst = 0;
+  /// Calls visit(vertex, sphere, gap, radius) for every free surface node inside a
+  /// sphere by more than kGapTolerance r and not in the active set with it.
+  template <class Visit>
+  void for_each_penetration_outside_set(const Eigen::VectorXd& u, Visit visit) const {
     Eigen::Vector3d n;
     const int vertices = static_cast<int>(spheres_->surface_nodes().size());
     for (int k = 0; k < spheres_->spheres(); ++k) {
       const double r = spheres_->radii()(k);
       for (int v = 0; v < vertices; ++v) {
         const int node = node_of(v);
+        if (!free_node(node)) continue;
         const double g = sphere_gap(position(u, node), centres_now_.row(k).transpose(), r, n);
-        if (g >= -kGapTolerance * r || !free_node(node)) continue;
+        if (g >= -kGapTolerance * r) continue;
         if (std::find(active_.begin(), active_.end(), ActivePair{v, k, 0}) != active_.end()) continue;
-        worst = std::max(worst, -g / (kGapTolerance * r));
+        visit(v, k, g, r);
       }
     }
+  }
+
+  /// How deep (in units of kGapTolerance r) the deepest free surface node outside the set is inside a sphere.
+  double deepest_outside_set(const Eigen::VectorXd& u) const {
+    double worst = 0;
+    for_each_penetration_outside_set(
+        u, [&](int, int, double g, double r) { worst = std::max(worst, -g / (kGapTolerance * r)); });
     return worst > 1 ? worst : 0;
   }
 
@@ -591,20 +600,11 @@ class NewtonSolve : public ElasticSolve {
     active_.erase(std::remove_if(active_.begin(), active_.end(), [](const ActivePair& p) { return p.lambda < 0; }),
                   active_.end());
     bool changed = active_.size() != before;
-    Eigen::Vector3d n;
-    const int vertices = static_cast<int>(spheres_->surface_nodes().size());
-    for (int k = 0; k < spheres_->spheres(); ++k) {
-      const double r = spheres_->radii()(k);
-      for (int v = 0; v < vertices; ++v) {
-        const int node = node_of(v);
-        if (!free_node(node)) continue;
-        if (sphere_gap(position(u, node), centres_now_.row(k).transpose(), r, n) >= -kGapTolerance * r) continue;
-        if (std::find(active_.begin(), active_.end(), ActivePair{v, k, 0}) != active_.end()) continue;
-        active_.push_back({v, k, 0});
-        changed = true;
-      }
-    }
-    return changed;
+    // Collected first: the visit searches active_, which must not grow under it.
+    joining_.clear();
+    for_each_penetration_outside_set(u, [&](int v, int k, double, double) { joining_.push_back({v, k, 0}); });
+    active_.insert(active_.end(), joining_.begin(), joining_.end());
+    return changed || !joining_.empty();
   }
 
   /// After a solve: each active pair's force lambda n on the body, into spheres_.
@@ -661,6 +661,7 @@ class NewtonSolve : public ElasticSolve {
   // the centres at the last converged state and at the current increment, and work.
   bool contact_ = false;
   std::vector<ActivePair> active_;
+  std::vector<ActivePair> joining_;  ///< update_active_set's pairs to add (kept: no allocation per update)
   Eigen::MatrixX3d centres_converged_, centres_now_;
   std::vector<Eigen::Vector3d> normal_;
   Eigen::VectorXd gap_, contact_free_, residual_c_, lambda_new_;
