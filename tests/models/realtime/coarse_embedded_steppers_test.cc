@@ -118,6 +118,24 @@ double reactions_error(const Model& m, const Model& reference) {
   return worst / largest;
 }
 
+/// The stepper settled under constant `loads` against Newton's answer of its law on
+/// the same coarse mesh: surface and reactions within its tolerance (recorded as
+/// `<model>_<tag>_*`). Returns the reference, for a test's own further checks.
+std::unique_ptr<Model> expect_settles_on_newtons_answer(const CoarseStepper& s, const LoadCase& load_case,
+                                                        const FrameLoads& loads, const std::string& tag) {
+  auto reference = newton_reference(s.law, load_case);
+  reference->step(loads);
+  auto m = set_up(s.model, s.parameters, load_case);
+  const int frames = settle(*m, loads, s.max_frames);
+  EXPECT_LE(frames, s.max_frames) << s.model;
+  const double error = relative(m->surface_displacement(), reference->surface_displacement());
+  EXPECT_LT(error, s.tolerance) << s.model;
+  EXPECT_LT(reactions_error(*m, *reference), s.tolerance) << s.model;
+  ::testing::Test::RecordProperty(s.model + "_" + tag + "_frames", frames);
+  ::testing::Test::RecordProperty(s.model + "_" + tag + "_relative_error", ::testing::PrintToString(error));
+  return reference;
+}
+
 // 0.2 N at the top centre, up then down (about 17 % of the height under Newton), and
 // the displacement at a probe in the middle of the cube.
 TEST_P(CoarseEmbeddedStepper, EqualsTheCoarseNewtonAnswerUnderAPointForce) {
@@ -172,16 +190,7 @@ TEST_P(CoarseEmbeddedStepper, EqualsTheCoarseNewtonAnswerUnderAGraspAndGravity) 
   const CoarseStepper& s = GetParam();
   const LoadCase load_case{kBottom, {Load::body_force()}, {Tool::grasp({a / 2, a / 2, a}, 0.006)}};
   const FrameLoads loads{{Eigen::Vector3d(0, 0, -9.81)}, {Eigen::Vector3d(0, 0, 0.003)}};
-  auto reference = newton_reference(s.law, load_case);
-  reference->step(loads);
-  auto m = set_up(s.model, s.parameters, load_case);
-  const int frames = settle(*m, loads, s.max_frames);
-  EXPECT_LE(frames, s.max_frames) << s.model;
-  const double error = relative(m->surface_displacement(), reference->surface_displacement());
-  EXPECT_LT(error, s.tolerance) << s.model;
-  EXPECT_LT(reactions_error(*m, *reference), s.tolerance) << s.model;
-  RecordProperty(s.model + "_grasp_gravity_frames", frames);
-  RecordProperty(s.model + "_grasp_gravity_relative_error", ::testing::PrintToString(error));
+  expect_settles_on_newtons_answer(s, load_case, loads, "grasp_gravity");
 }
 
 // 0.2 N spread over a 1 cm disc at the top centre, and the side x = a pushed 2 mm in
@@ -192,17 +201,8 @@ TEST_P(CoarseEmbeddedStepper, EqualsTheCoarseNewtonAnswerUnderATractionAndASlidi
                            {Load::surface_traction({a / 2, a / 2, a}, 0.01)},
                            {Tool::plate({{a - 1e-9, -1, 0.005}, {1, 1, 1}}, true, 0)}};
   const FrameLoads loads{{Eigen::Vector3d(0, 0, 0.2)}, {Eigen::Vector3d(-0.002, 0, 0)}};
-  auto reference = newton_reference(s.law, load_case);
-  reference->step(loads);
-  auto m = set_up(s.model, s.parameters, load_case);
-  const int frames = settle(*m, loads, s.max_frames);
-  EXPECT_LE(frames, s.max_frames) << s.model;
-  const double error = relative(m->surface_displacement(), reference->surface_displacement());
-  EXPECT_LT(error, s.tolerance) << s.model;
-  EXPECT_LT(reactions_error(*m, *reference), s.tolerance) << s.model;
+  const auto reference = expect_settles_on_newtons_answer(s, load_case, loads, "traction_sliding_plate");
   EXPECT_GT((*reference->reaction_forces())[0].x(), 0);  // the tissue pushes the plate back out
-  RecordProperty(s.model + "_traction_sliding_plate_frames", frames);
-  RecordProperty(s.model + "_traction_sliding_plate_relative_error", ::testing::PrintToString(error));
 }
 
 INSTANTIATE_TEST_SUITE_P(Steppers, CoarseEmbeddedStepper, ::testing::ValuesIn(coarse_steppers()),
