@@ -137,7 +137,6 @@ class NewtonSolve : public ElasticSolve {
       centres_converged_ = spheres_->centres();  // the first frame: the spheres start where they are
     std::vector<ActivePair> active_converged = active_;
     double done = 0, increment = 1.0 / std::max(1, o_.load_steps);
-    int halvings_since_rescue = 0;
     rescues_ = 0;
     while (done < 1) {
       double target = done + increment;
@@ -155,36 +154,37 @@ class NewtonSolve : public ElasticSolve {
       } else {
         active_ = active_converged;  // the increment again from the last converged set
         increment /= 2;
-        ++halvings_;
-        if (++halvings_since_rescue > o_.max_halvings) {
+        if (++halvings_ > o_.max_halvings) {
           // The increment is down to 2^-max_halvings of the frame and still fails: with
           // spheres, a fold of the quasi-static path (a node's contact force reaches 0
           // where the body without it would be inside the sphere: no equilibrium nearby,
-          // docs/suite.md). Pseudo-transient continuation over this small increment
-          // finds the equilibrium the body snaps to; then the rest of the frame in
-          // increments as before.
+          // docs/equations.md). Pseudo-transient continuation from the last converged
+          // state (at the fold) under the frame's whole load finds the equilibrium the
+          // body snaps to: at the fold itself the unstable mode's stiffness is near zero
+          // and the damped flow would leave it as slowly.
+          const double failed_at = target;
           bool rescued = false;
-          if (contact_ && rescues_ < kMaxRescues) {
-            ++rescues_;
+          if (contact_) {
+            rescues_ = 1;
             ++rescues_total_;
+            target = 1;
+            f = f_free;
+            centres_now_ = spheres_->centres();
             trial = state;
             set_constrained(u_start, u_target, target, trial);
             rescued = continue_pseudo_transiently(f, trial);
           }
           if (!rescued) {
             std::ostringstream msg;
-            msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << target << " after "
+            msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
-                << (contact_ ? " and " + std::to_string(rescues_) + " pseudo-transient continuation(s)" : "")
+                << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
                 << "; the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());
           }
           state = trial;
           done = target;
           ++increments_;
-          active_converged = active_;
-          halvings_since_rescue = 0;
-          increment = 1.0 / std::max(1, o_.load_steps);
         }
       }
     }
@@ -556,8 +556,8 @@ class NewtonSolve : public ElasticSolve {
   static constexpr double kPseudoTimeStart = 1, kPseudoTimeSmallest = 1e-6;
   /// The relative KKT residual at which pseudo-time hands over to plain Newton.
   static constexpr double kPseudoTimeLoose = 1e-6;
-  /// Iterations one pseudo-transient continuation may take, and continuations a frame.
-  static constexpr int kPseudoTransientIterations = 400, kMaxRescues = 8;
+  /// Iterations a pseudo-transient continuation may take.
+  static constexpr int kPseudoTransientIterations = 400;
 
   /// Newton from u at f by pseudo-transient continuation down to kPseudoTimeLoose
   /// (relative KKT residual), then plain Newton from there (quadratic near the
@@ -799,7 +799,7 @@ class NewtonSolve : public ElasticSolve {
   Eigen::VectorXd rest_diagonal_;  ///< pseudo-time's V: the rest stiffness's diagonal (N/m), per dof
   double ptc_shift_ = 0;           ///< pseudo-transient continuation's 1 / delta (0: plain Newton)
   double ptc_tolerance_ = 0;       ///< > 0: the relative KKT residual pseudo-time stops at
-  int rescues_ = 0;                ///< pseudo-transient continuations in the last solve
+  int rescues_ = 0;                ///< pseudo-transient continuations in the last solve (0 or 1)
   long rescues_total_ = 0, active_set_cycles_ = 0;
   std::vector<std::pair<std::vector<std::pair<int, int>>, double>> sets_seen_;  ///< (set, merit) this Newton solve
   std::vector<std::pair<int, int>> set_key_;
