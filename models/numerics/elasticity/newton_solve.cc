@@ -33,6 +33,10 @@
 // for (du, lambda) by the Schur complement S = N K~^-1 N^T on the tangent's factor;
 // then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
 // moves with the load increments (docs/equations.md, "Contact with a rigid sphere").
+// A set entered again without the merit halving ends the increment (the update
+// cycles); where increments halved 12 times still fail, a fold of the quasi-static
+// path, the frame is finished by pseudo-transient continuation (Kelley and Keyes
+// 1998; below).
 //
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
