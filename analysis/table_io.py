@@ -1,4 +1,5 @@
 """Writing tables (.md and .csv) and the notes every table carries."""
+from collections import Counter
 import csv
 import io
 import json
@@ -54,10 +55,22 @@ def markdown_table(header, rows):
 
 
 def machine_note(cases, threads="one thread"):
-    """Machine, build and thread count of the runs (read from a run.json)."""
-    b = next(iter(cases.values()))["run"]["build"]
-    return (f"Measured on {b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
-            f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; {threads}.")
+    """Machine, build and thread count of the runs (read from each run.json); where the
+    cases were run on more than one machine, build or commit, each is named with how
+    many cases it ran (a table's footer never claims one commit for all)."""
+    def machine(b):
+        return (f"{b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
+                f"{b.get('build_type', '?')} build, {b.get('compiler', '?')}")
+    builds = [c["run"]["build"] for c in cases.values()]
+    machines = Counter(machine(b) for b in builds)
+    commits = Counter(b.get("git_commit", "?") for b in builds)
+
+    def listed(counter, what):
+        if len(counter) == 1:
+            return f"{what} {next(iter(counter))}"
+        return f"{what}s " + ", ".join(f"{k} ({n} cases)" for k, n in sorted(counter.items()))
+    on = listed(machines, "machine").removeprefix("machine ")
+    return f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
 
 
 def case_legend(cases):

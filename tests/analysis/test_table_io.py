@@ -1,0 +1,34 @@
+"""The notes every table carries (analysis/table_io.py)."""
+import os
+import sys
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "analysis"))
+import table_io  # noqa: E402
+
+
+def case(commit, cpu="Xeon"):
+    return {"run": {"build": {"cpu_model": cpu, "hardware_threads": 2, "build_type": "Release",
+                              "compiler": "g++ 12.2.0", "git_commit": commit}}}
+
+
+class MachineNote(unittest.TestCase):
+    def test_one_commit_is_named_once(self):
+        note = table_io.machine_note({"a": case("abc"), "b": case("abc")})
+        self.assertEqual(note, "Measured on Xeon (2 hardware threads), Release build, g++ 12.2.0, commit abc; "
+                               "one thread.")
+
+    def test_every_commit_is_named_with_its_case_count(self):
+        note = table_io.machine_note({"a": case("abc"), "b": case("def"), "c": case("abc")})
+        self.assertIn("commits abc (2 cases), def (1 cases)", note)
+
+    def test_every_machine_is_named_with_its_case_count(self):
+        note = table_io.machine_note({"a": case("abc", "Xeon"), "b": case("abc", "EPYC")})
+        self.assertTrue(note.startswith("Measured on machines EPYC (2 hardware threads), Release build, g++ 12.2.0 "
+                                        "(1 cases), Xeon"), note)
+        self.assertIn("commit abc;", note)
+
+
+if __name__ == "__main__":
+    unittest.main()
