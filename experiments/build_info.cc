@@ -1,5 +1,7 @@
 #include "build_info.h"
 
+#include <malloc.h>
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -61,6 +63,11 @@ nlohmann::json build_and_machine_info() {
 }
 
 bool reset_peak_memory() {
+  // Memory an earlier case freed through malloc may still be resident: glibc keeps
+  // freed heap chunks (after a large block is freed its mmap threshold grows to that
+  // size, up to 32 MiB, so a model's many vectors come from the heap), and the new
+  // peak would start from it. Give it back first (mallopt(3), malloc_trim(3)).
+  malloc_trim(0);
   std::ofstream clear("/proc/self/clear_refs");
   clear << "5";
   clear.close();
