@@ -70,7 +70,26 @@ def machine_note(cases, threads="one thread"):
             return f"{what} {next(iter(counter))}"
         return f"{what}s " + ", ".join(f"{k} ({n} cases)" for k, n in sorted(counter.items()))
     on = listed(machines, "machine").removeprefix("machine ")
-    return f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
+    note = f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
+    busy = busy_cases(cases)
+    if busy:
+        note += (" On a busy machine (the 1-minute load average above the hardware threads at the case's setup or "
+                 "last frame: its times inflated by the other work): " + ", ".join(busy) + ".")
+    return note
+
+
+def busy_cases(cases):
+    """The cases (names, with their load) whose run recorded a 1-minute load average above
+    the machine's hardware threads (timings.json load_average_1min, written since the
+    runner records it; older cases are not judged)."""
+    busy = []
+    for name, c in cases.items():
+        load = c.get("timings", {}).get("load_average_1min") or {}
+        values = [v for v in load.values() if isinstance(v, (int, float))]
+        threads = c["run"]["build"].get("hardware_threads")
+        if values and threads and max(values) > threads:
+            busy.append(f"{name} (load {max(values):.1f})")
+    return busy
 
 
 def case_legend(cases):

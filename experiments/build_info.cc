@@ -1,10 +1,10 @@
 #include "build_info.h"
 
 #include <malloc.h>
-
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <limits>
@@ -72,6 +72,11 @@ bool reset_peak_memory() {
   clear << "5";
   clear.close();
   return static_cast<bool>(clear);
+}
+
+double load_average_1min() {
+  double load[1];
+  return getloadavg(load, 1) == 1 ? load[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
 double peak_memory_since_reset_mib() {

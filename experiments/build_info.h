@@ -12,6 +12,8 @@ double process_peak_memory_mib();
 /// freed is returned to the kernel (malloc_trim), then Linux resets VmHWM when "5"
 /// is written to /proc/self/clear_refs (proc(5)). False where that is refused.
 bool reset_peak_memory();
+/// The machine's load average over the last minute (getloadavg(3)); NaN where unknown.
+double load_average_1min();
 /// This process's peak resident memory since the last reset_peak_memory() (VmHWM in
 /// /proc/self/status), MiB; the peak since it started if never reset; NaN if unreadable.
 double peak_memory_since_reset_mib();

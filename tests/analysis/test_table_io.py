@@ -29,6 +29,13 @@ class MachineNote(unittest.TestCase):
                                         "(1 cases), Xeon"), note)
         self.assertIn("commit abc;", note)
 
+    def test_a_case_run_on_a_busy_machine_is_named_with_its_load(self):
+        busy, quiet, old = case("abc"), case("abc"), case("abc")
+        busy["timings"] = {"load_average_1min": {"at_setup": 1.2, "at_last_frame": 4.6}}
+        quiet["timings"] = {"load_average_1min": {"at_setup": 0.4, "at_last_frame": 1.9}}
+        note = table_io.machine_note({"busy": busy, "quiet": quiet, "old": old})
+        self.assertTrue(note.endswith("its times inflated by the other work): busy (load 4.6)."), note)
+
 
 if __name__ == "__main__":
     unittest.main()
