@@ -73,22 +73,33 @@ def machine_note(cases, threads="one thread"):
     note = f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
     busy = busy_cases(cases)
     if busy:
+        # Named by group ("role/case" keys: a role all of whose cases were busy is named once).
+        groups = {}
+        for name in cases:
+            groups.setdefault(name.split("/")[0] if "/" in name else name, []).append(name)
+        named = []
+        for group, names in groups.items():
+            loads = [busy[n] for n in names if n in busy]
+            if len(loads) == len(names) > 1:
+                named.append(f"{group} (all {len(names)} cases, load {min(loads):.1f}-{max(loads):.1f})")
+            else:
+                named += [f"{n} (load {busy[n]:.1f})" for n in names if n in busy]
         note += (" On a busy machine (the 1-minute load average above the hardware threads at the case's setup or "
-                 "last frame: its times inflated by the other work): " + ", ".join(busy) + ".")
+                 "last frame: its times inflated by the other work): " + ", ".join(named) + ".")
     return note
 
 
 def busy_cases(cases):
-    """The cases (names, with their load) whose run recorded a 1-minute load average above
-    the machine's hardware threads (timings.json load_average_1min, written since the
-    runner records it; older cases are not judged)."""
-    busy = []
+    """{case name: its highest load} for the cases whose run recorded a 1-minute load
+    average above the machine's hardware threads (timings.json load_average_1min,
+    written since the runner records it; older cases are not judged)."""
+    busy = {}
     for name, c in cases.items():
         load = c.get("timings", {}).get("load_average_1min") or {}
         values = [v for v in load.values() if isinstance(v, (int, float))]
         threads = c["run"]["build"].get("hardware_threads")
         if values and threads and max(values) > threads:
-            busy.append(f"{name} (load {max(values):.1f})")
+            busy[name] = max(values)
     return busy
 
 

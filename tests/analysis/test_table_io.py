@@ -36,6 +36,14 @@ class MachineNote(unittest.TestCase):
         note = table_io.machine_note({"busy": busy, "quiet": quiet, "old": old})
         self.assertTrue(note.endswith("its times inflated by the other work): busy (load 4.6)."), note)
 
+    def test_a_group_all_of_whose_cases_were_busy_is_named_once(self):
+        cases = {}
+        for name, load in [("a/x", 3.5), ("a/y", 7.25), ("b/x", 5.0), ("b/y", 0.5)]:
+            cases[name] = case("abc")
+            cases[name]["timings"] = {"load_average_1min": {"at_setup": load, "at_last_frame": load}}
+        note = table_io.machine_note(cases)
+        self.assertIn("other work): a (all 2 cases, load 3.5-7.2), b/x (load 5.0).", note)
+
 
 if __name__ == "__main__":
     unittest.main()
