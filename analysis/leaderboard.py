@@ -28,7 +28,7 @@ import metrics  # noqa: E402
 import results_index  # noqa: E402
 import truth_cube  # noqa: E402
 from results_index import ResultsError  # noqa: E402
-from table_io import case_legend, fmt, machine_note, write_table  # noqa: E402
+from table_io import busy_cases, case_legend, fmt, machine_note, write_table  # noqa: E402
 
 BUDGETS_MS = (0.1, 1.0, 16.0)
 TRUTH_CUBE_ROLE_PREFIX = "truth_cube"
@@ -353,7 +353,8 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                                fmt(s["median_ms"]), fmt(s["p95_ms"]), fmt(s["setup_ms"]),
                                fmt(s["peak_mib"]), str(s["frames"]), "yes" if s["settled"] else "no"])
         ref = next(s for s in scores if s["case"] == ref_name)
-        row = [role, ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
+        busy = busy_cases(exp.scenario(scenario))
+        row = [role + (f" (times of {len(busy)} cases from a busy machine)" if busy else ""), ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
         for budget in BUDGETS_MS:
             best = best_within(scores, key, budget)
             row.append("none fits" if best is None else

@@ -1,4 +1,5 @@
 """Writing tables (.md and .csv) and the notes every table carries."""
+from collections import Counter
 import csv
 import io
 import json
@@ -54,10 +55,52 @@ def markdown_table(header, rows):
 
 
 def machine_note(cases, threads="one thread"):
-    """Machine, build and thread count of the runs (read from a run.json)."""
-    b = next(iter(cases.values()))["run"]["build"]
-    return (f"Measured on {b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
-            f"{b['build_type']} build, {b['compiler']}, commit {b['git_commit']}; {threads}.")
+    """Machine, build and thread count of the runs (read from each run.json); where the
+    cases were run on more than one machine, build or commit, each is named with how
+    many cases it ran (a table's footer never claims one commit for all)."""
+    def machine(b):
+        return (f"{b.get('cpu_model', '?')} ({b.get('hardware_threads', '?')} hardware threads), "
+                f"{b.get('build_type', '?')} build, {b.get('compiler', '?')}")
+    builds = [c["run"]["build"] for c in cases.values()]
+    machines = Counter(machine(b) for b in builds)
+    commits = Counter(b.get("git_commit", "?") for b in builds)
+
+    def listed(counter, what):
+        if len(counter) == 1:
+            return f"{what} {next(iter(counter))}"
+        return f"{what}s " + ", ".join(f"{k} ({n} cases)" for k, n in sorted(counter.items()))
+    on = listed(machines, "machine").removeprefix("machine ")
+    note = f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
+    busy = busy_cases(cases)
+    if busy:
+        # Named by group ("role/case" keys: a role all of whose cases were busy is named once).
+        groups = {}
+        for name in cases:
+            groups.setdefault(name.split("/")[0] if "/" in name else name, []).append(name)
+        named = []
+        for group, names in groups.items():
+            loads = [busy[n] for n in names if n in busy]
+            if len(loads) == len(names) > 1:
+                named.append(f"{group} (all {len(names)} cases, load {min(loads):.1f}-{max(loads):.1f})")
+            else:
+                named += [f"{n} (load {busy[n]:.1f})" for n in names if n in busy]
+        note += (" On a busy machine (the 1-minute load average above the hardware threads at the case's setup or "
+                 "last frame: its times inflated by the other work): " + ", ".join(named) + ".")
+    return note
+
+
+def busy_cases(cases):
+    """{case name: its highest load} for the cases whose run recorded a 1-minute load
+    average above the machine's hardware threads (timings.json load_average_1min,
+    written since the runner records it; older cases are not judged)."""
+    busy = {}
+    for name, c in cases.items():
+        load = c.get("timings", {}).get("load_average_1min") or {}
+        values = [v for v in load.values() if isinstance(v, (int, float))]
+        threads = c["run"]["build"].get("hardware_threads")
+        if values and threads and max(values) > threads:
+            busy[name] = max(values)
+    return busy
 
 
 def case_legend(cases):

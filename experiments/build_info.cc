@@ -1,8 +1,10 @@
 #include "build_info.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <limits>
@@ -61,10 +63,20 @@ nlohmann::json build_and_machine_info() {
 }
 
 bool reset_peak_memory() {
+  // Memory an earlier case freed through malloc may still be resident: glibc keeps
+  // freed heap chunks (after a large block is freed its mmap threshold grows to that
+  // size, up to 32 MiB, so a model's many vectors come from the heap), and the new
+  // peak would start from it. Give it back first (mallopt(3), malloc_trim(3)).
+  malloc_trim(0);
   std::ofstream clear("/proc/self/clear_refs");
   clear << "5";
   clear.close();
   return static_cast<bool>(clear);
+}
+
+double load_average_1min() {
+  double load[1];
+  return getloadavg(load, 1) == 1 ? load[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
 double peak_memory_since_reset_mib() {

@@ -166,6 +166,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
 
   // The case's own peak memory: from here (the mesh already resident) to its last frame.
   const bool peak_reset = reset_peak_memory();
+  const double load_at_start = load_average_1min();
   const auto t0 = Clock::now();
   model->setup(problem);
   const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -255,6 +256,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   }
   if (!info.dynamic) out.steady_frame = std::max(0, changing - 1);
   const double peak_memory_mib = peak_memory_since_reset_mib();
+  const double load_at_end = load_average_1min();
   nlohmann::json processes;
   if (shared && opt.process_statistics)
     processes = opt.process_statistics();
@@ -330,6 +332,9 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
       peak_reset ? "this process's peak resident memory (VmHWM) from the model's setup to its last frame, the "
                    "mesh included (reset before setup: /proc/self/clear_refs)"
                  : "this process's peak resident memory since it started (VmHWM; the kernel refused a reset)";
+  // The machine's other work inflates every time here: the analysis flags a case whose
+  // load average exceeded the hardware threads (a busy machine).
+  t["load_average_1min"] = {{"at_setup", load_at_start}, {"at_last_frame", load_at_end}};
   t["step"] = to_json(timing_stats(step_ms));
   // Frames after the load ramp, i.e. the frames of the steady load only.
   const size_t skip = std::min(step_ms.size(), static_cast<size_t>(changing));

@@ -637,4 +637,14 @@ bool add_model_everywhere(Experiment& e, const std::string& model) {
   return true;
 }
 
+void leave_out_scenarios(Experiment& e, const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    const auto found = std::find_if(e.scenarios.begin(), e.scenarios.end(), [&](const Scenario& s) { return s.name == name; });
+    if (found == e.scenarios.end())
+      throw ScenarioError("--skip-scenario " + name + ": no scenario of experiment '" + e.name + "' has that name");
+    e.scenarios.erase(found);
+  }
+  if (e.scenarios.empty()) throw ScenarioError("--skip-scenario: no scenario of experiment '" + e.name + "' is left");
+}
+
 }  // namespace tb

@@ -137,6 +137,12 @@ struct Experiment {
 /// (and changes nothing) when some case already has that name or model.
 bool add_model_everywhere(Experiment& experiment, const std::string& model);
 
+/// `tissuebench run FILE --skip-scenario NAME ...`: the scenarios of these names left
+/// out of the experiment (its index then lists the others only; e.g. the suite's
+/// gates leave out its larger sizes). Throws ScenarioError naming a name that is no
+/// scenario of the experiment, or when no scenario is left.
+void leave_out_scenarios(Experiment& experiment, const std::vector<std::string>& names);
+
 /// `overrides` ([[dotted key, value], ...]) are set in every scenario after its
 /// `extends` and the experiment's models are applied (set_scenario_key, sweep.h).
 Experiment load_experiment(const std::string& path, const DataDir& data = data_dir(),

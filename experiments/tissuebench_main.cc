@@ -117,6 +117,9 @@ int main(int argc, char** argv) {
   run->add_option("--model", only, "run only this case or model name");
   std::string only_scenario;
   run->add_option("--scenario", only_scenario, "run only the scenario of this name");
+  std::vector<std::string> skipped_scenarios;
+  run->add_option("--skip-scenario", skipped_scenarios, "leave out the scenario of this name (repeatable)")
+      ->allow_extra_args(false);
   std::vector<std::string> settings;
   run->add_option("--set", settings,
                   "KEY=VALUE: set a scenario key in every scenario (a dotted path, as a sweep factor's key, e.g. "
@@ -199,6 +202,7 @@ int main(int argc, char** argv) {
     }
     if (run->parsed()) {
       tb::Experiment e = tb::load_experiment(scenario_file, tb::data_dir(data_dir_flag), overrides_of(settings));
+      tb::leave_out_scenarios(e, skipped_scenarios);
       // A registered model the experiment does not run: scored on every scenario (docs/suite.md).
       if (!only.empty() && tb::add_model_everywhere(e, only) && root)
         std::cerr << "tissuebench: " << only << " is not a case of " << scenario_file

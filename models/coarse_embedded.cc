@@ -10,7 +10,7 @@ namespace {
 
 class CoarseEmbedded : public Model {
  public:
-  CoarseEmbedded(std::string name, CoarseFemSolve make_solve)
+  CoarseEmbedded(std::string name, ElasticSolveFactory make_solve)
       : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
 
   void setup(const Problem& p) override {
@@ -52,7 +52,7 @@ class CoarseEmbedded : public Model {
 
  private:
   std::string name_;
-  CoarseFemSolve make_solve_;
+  ElasticSolveFactory make_solve_;
   std::unique_ptr<CoarseFem> coarse_;
   std::vector<ControlPoint> embedding_;
   Displacements u_;
@@ -61,7 +61,7 @@ class CoarseEmbedded : public Model {
 
 }  // namespace
 
-std::unique_ptr<Model> make_coarse_embedded(const std::string& model_name, CoarseFemSolve make_solve) {
+std::unique_ptr<Model> make_coarse_embedded(const std::string& model_name, ElasticSolveFactory make_solve) {
   return std::make_unique<CoarseEmbedded>(model_name, std::move(make_solve));
 }
 

@@ -17,6 +17,6 @@ namespace tb {
 
 /// A model whose coarse FEM is solved by `make_solve` (empty: the coarse_solver
 /// parameters' strategy); its errors begin with `model_name`.
-std::unique_ptr<Model> make_coarse_embedded(const std::string& model_name, CoarseFemSolve make_solve = {});
+std::unique_ptr<Model> make_coarse_embedded(const std::string& model_name, ElasticSolveFactory make_solve = {});
 
 }  // namespace tb

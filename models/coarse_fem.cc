@@ -4,7 +4,7 @@
 
 namespace tb {
 
-CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule, const CoarseFemSolve& make_solve) {
+CoarseFem::CoarseFem(const Problem& p, PointInVolume point_rule, const ElasticSolveFactory& make_solve) {
   const HybridMesh& h = *p.mesh;
   const std::vector<char> clamped = p.load_case.support.clamp(h.coarse_volume.V, "coarse volume");
   std::vector<PrescribedGroup> groups;

@@ -16,19 +16,17 @@
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
+#include "elastic_solve_factory.h"
 #include "load_placement.h"
 #include "model.h"
 
 namespace tb {
 
-/// A solve a model makes for the coarse body (which outlives it).
-using CoarseFemSolve = std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Problem&)>;
-
 class CoarseFem {
  public:
   /// With `make_solve` empty, the strategy of the parameters coarse_solver and
   /// coarse_*. Throws std::invalid_argument (its message without the model's name).
-  CoarseFem(const Problem& problem, PointInVolume point_rule, const CoarseFemSolve& make_solve = {});
+  CoarseFem(const Problem& problem, PointInVolume point_rule, const ElasticSolveFactory& make_solve = {});
 
   /// One frame: the coarse displacement under the frame's loads and tools.
   void step(const FrameLoads& loads);

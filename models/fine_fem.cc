@@ -13,7 +13,7 @@ namespace {
 
 class FineFem : public Model {
  public:
-  FineFem(std::string name, FineFemSolve make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
+  FineFem(std::string name, ElasticSolveFactory make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
 
   void setup(const Problem& p) override {
     const HybridMesh& h = *p.mesh;
@@ -123,7 +123,7 @@ class FineFem : public Model {
   }
 
   std::string name_;
-  FineFemSolve make_solve_;
+  ElasticSolveFactory make_solve_;
   std::vector<PhaseTime> phases_{{phase::kSolve}};
   std::unique_ptr<ElasticBody> body_;
   std::unique_ptr<ElasticSolve> solve_;
@@ -147,7 +147,7 @@ class FineFem : public Model {
 
 }  // namespace
 
-std::unique_ptr<Model> make_fine_fem(const std::string& model_name, FineFemSolve make_solve) {
+std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolveFactory make_solve) {
   return std::make_unique<FineFem>(model_name, std::move(make_solve));
 }
 

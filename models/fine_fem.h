@@ -11,16 +11,14 @@
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
+#include "elastic_solve_factory.h"
 #include "model.h"
 
 namespace tb {
 
-/// The solve a fine-volume FEM model uses on its body (which outlives it).
-using FineFemSolve = std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Problem&)>;
-
 /// A model solving the fine volume with `make_solve`'s strategy each frame; its
 /// errors begin with `model_name`.
-std::unique_ptr<Model> make_fine_fem(const std::string& model_name, FineFemSolve make_solve);
+std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolveFactory make_solve);
 
 /// What the fine-volume FEM takes and measures (ModelInfo's loads, tools,
 /// tools_how, reactions, probes), for the models built on it.

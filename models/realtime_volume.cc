@@ -9,7 +9,7 @@ namespace {
 
 class OnVolume : public Model {
  public:
-  OnVolume(std::string name, FineFemSolve make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
+  OnVolume(std::string name, ElasticSolveFactory make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
 
   void setup(const Problem& p) override {
     volume_ = p.parameters.choice("volume");
@@ -38,7 +38,7 @@ class OnVolume : public Model {
 
  private:
   std::string name_;
-  FineFemSolve make_solve_;
+  ElasticSolveFactory make_solve_;
   std::string volume_;
   std::unique_ptr<Model> inner_;
 };
@@ -53,7 +53,7 @@ ParameterSpec volume_parameter() {
       "nearest coarse tet, as the embedded model)");
 }
 
-std::unique_ptr<Model> make_on_volume(const std::string& model_name, FineFemSolve make_solve) {
+std::unique_ptr<Model> make_on_volume(const std::string& model_name, ElasticSolveFactory make_solve) {
   return std::make_unique<OnVolume>(model_name, std::move(make_solve));
 }
 

@@ -21,7 +21,7 @@ ParameterSpec volume_parameter();
 
 /// A model running `make_solve`'s stepper on the volume its parameter `volume`
 /// names; its errors begin with `model_name`, its report() says which volume.
-std::unique_ptr<Model> make_on_volume(const std::string& model_name, FineFemSolve make_solve);
+std::unique_ptr<Model> make_on_volume(const std::string& model_name, ElasticSolveFactory make_solve);
 
 /// ModelInfo of a real-time stepper model: loads, tools, and how it holds tools,
 /// measures reactions and gives probes on either volume; `fine_tools_how` and

@@ -80,6 +80,13 @@ TEST_F(Scenarios, RunWritesResultsDeterministically) {
   const auto run = nlohmann::json::parse(read_file((dir / "a" / "small" / "small" / "pbd" / "run.json").string()));
   EXPECT_TRUE(run["reached_steady_state"].get<bool>());
   EXPECT_EQ(run["parameters"]["iterations"], 10);
+  // The machine's load beside the times (the analysis flags a busy machine's cases).
+  const auto timings =
+      nlohmann::json::parse(read_file((dir / "a" / "small" / "small" / "pbd" / "timings.json").string()));
+  for (const char* when : {"at_setup", "at_last_frame"}) {
+    ASSERT_TRUE(timings["load_average_1min"][when].is_number()) << when;
+    EXPECT_GE(timings["load_average_1min"][when].get<double>(), 0.0) << when;
+  }
 }
 
 TEST_F(Scenarios, DivergenceIsReportedAndLeavesThePreviousResult) {

@@ -187,6 +187,30 @@ TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
   EXPECT_EQ(e.scenarios[1].models.size(), 1u);
 }
 
+// tissuebench run --skip-scenario NAME: that scenario left out, the others kept in
+// order; a name the experiment does not have, or leaving none, is a one-line error.
+TEST_F(Scenarios, SkippedScenariosAreLeftOutAndAnUnknownNameIsAnError) {
+  write_loaded_and_pressed();
+  const std::string path =
+      write("suite.json", {{"name", "suite"}, {"reference", "fem-direct"}, {"scenarios", {"small.json", "pressed.json"}}});
+  Experiment e = load_experiment(path);
+  leave_out_scenarios(e, {"small"});
+  ASSERT_EQ(e.scenarios.size(), 1u);
+  EXPECT_EQ(e.scenarios[0].name, "pressed");
+  for (const auto& [names, message] :
+       std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"ghost"}, "--skip-scenario ghost: no scenario of experiment 'suite' has that name"},
+           {{"small", "pressed"}, "--skip-scenario: no scenario of experiment 'suite' is left"}}) {
+    Experiment fresh = load_experiment(path);
+    try {
+      leave_out_scenarios(fresh, names);
+      FAIL() << "accepted " << message;
+    } catch (const ScenarioError& err) {
+      EXPECT_EQ(std::string(err.what()), message);
+    }
+  }
+}
+
 // tissuebench run --set: one value set in every scenario, as a sweep factor would,
 // recorded in experiment.json; a key the loader does not know is an error naming it.
 TEST_F(Scenarios, OverridesSetAKeyInEveryScenarioAndAreRecorded) {
