@@ -33,6 +33,10 @@
 // for (du, lambda) by the Schur complement S = N K~^-1 N^T on the tangent's factor;
 // then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
 // moves with the load increments (docs/equations.md, "Contact with a rigid sphere").
+// A set entered again without the merit halving ends the increment (the update
+// cycles); where increments halved 12 times still fail, a fold of the quasi-static
+// path, the frame is finished by pseudo-transient continuation (Kelley and Keyes
+// 1998; below).
 //
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
@@ -97,8 +101,13 @@ class NewtonSolve : public ElasticSolve {
         for (int a = 0; a < 4; ++a)
           inertia_.segment<3>(3 * m.T(t, a)).array() +=
               body.material().density * shapes_[static_cast<size_t>(t)].volume / 4 / (o.time_step * o.time_step);
-      for (int d = 0; d < body.dofs(); ++d) diagonal_.push_back(value_index(d, d));
       velocity_ = Eigen::VectorXd::Zero(body.dofs());
+    }
+    // Each dof's diagonal entry: implicit Euler's mass and pseudo-time's scaling V go there.
+    rest_diagonal_.resize(body.dofs());
+    for (int d = 0; d < body.dofs(); ++d) {
+      diagonal_.push_back(value_index(d, d));
+      rest_diagonal_(d) = K_full_.valuePtr()[diagonal_.back()];
     }
     // The scale of a gap's violation in the line search's merit: the stiffest free dof (N/m).
     for (int d = 0; d < K_free_.outerSize(); ++d) stiffness_scale_ = std::max(stiffness_scale_, K_free_.coeff(d, d));
@@ -132,6 +141,7 @@ class NewtonSolve : public ElasticSolve {
       centres_converged_ = spheres_->centres();  // the first frame: the spheres start where they are
     std::vector<ActivePair> active_converged = active_;
     double done = 0, increment = 1.0 / std::max(1, o_.load_steps);
+    rescues_ = 0;
     while (done < 1) {
       double target = done + increment;
       if (target > 1 - 1e-12) target = 1;
@@ -149,10 +159,36 @@ class NewtonSolve : public ElasticSolve {
         active_ = active_converged;  // the increment again from the last converged set
         increment /= 2;
         if (++halvings_ > o_.max_halvings) {
-          std::ostringstream msg;
-          msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << target << " after "
-              << o_.max_halvings << " halvings of the increment; the load may exceed what the mesh and law allow";
-          throw std::runtime_error(msg.str());
+          // The increment is down to 2^-max_halvings of the frame and still fails: with
+          // spheres, a fold of the quasi-static path (a node's contact force reaches 0
+          // where the body without it would be inside the sphere: no equilibrium nearby,
+          // docs/equations.md). Pseudo-transient continuation from the last converged
+          // state (at the fold) under the frame's whole load finds the equilibrium the
+          // body snaps to: at the fold itself the unstable mode's stiffness is near zero
+          // and the damped flow would leave it as slowly.
+          const double failed_at = target;
+          bool rescued = false;
+          if (contact_) {
+            rescues_ = 1;
+            ++rescues_total_;
+            target = 1;
+            f = f_free;
+            centres_now_ = spheres_->centres();
+            trial = state;
+            set_constrained(u_start, u_target, target, trial);
+            rescued = continue_pseudo_transiently(f, trial);
+          }
+          if (!rescued) {
+            std::ostringstream msg;
+            msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
+                << o_.max_halvings << " halvings of the increment"
+                << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
+                << "; the load may exceed what the mesh and law allow";
+            throw std::runtime_error(msg.str());
+          }
+          state = trial;
+          done = target;
+          ++increments_;
         }
       }
     }
@@ -173,6 +209,11 @@ class NewtonSolve : public ElasticSolve {
                         {"load_increments_last_solve", increments_},
                         {"increment_halvings_last_solve", halvings_},
                         {"newton_iterations_last_solve", iterations_}};
+    if (spheres_) {
+      r["pseudo_transient_continuations_last_solve"] = rescues_;
+      r["pseudo_transient_continuations"] = rescues_total_;
+      r["active_set_cycles_detected"] = active_set_cycles_;
+    }
     if (o_.max_iterations_per_frame > 0) {
       r["newton_max_iterations_per_frame"] = o_.max_iterations_per_frame;
       r["relative_residual_last_solve"] = relative_residual_;
@@ -390,26 +431,42 @@ class NewtonSolve : public ElasticSolve {
     // The scale of the forces in play: the external ones, or (under prescribed
     // displacements alone) the internal ones the first state carries, or the contact's.
     const double scale0 = std::max({f.norm(), f_int_.norm(), 1e-300});
+    const bool pseudo_transient = ptc_shift_ > 0;
+    const int max_iterations = pseudo_transient ? kPseudoTransientIterations : o_.max_iterations;
+    sets_seen_.clear();
     if (contact_) update_active_set(u);  // the nodes the sphere's move put inside join at once
     double merit = contact_ ? contact_terms(u, r) : r.norm();
+    // A set entered again without the merit having halved since: the primal-dual update
+    // cycles (set_cycles). Plain Newton gives the increment up (it is halved);
+    // pseudo-transient continuation damps harder.
+    const auto cycles = [&]() {
+      if (!set_cycles(merit)) return false;
+      ++active_set_cycles_;
+      if (!pseudo_transient) return true;
+      ptc_shift_ = std::max(10 * ptc_shift_, 1.0);
+      sets_seen_.clear();
+      return false;
+    };
     for (int it = 0;; ++it) {
       const double r_norm = contact_ ? residual_c_.norm() : r.norm();
       const double scale = contact_ ? std::max(scale0, contact_free_.norm()) : scale0;
-      if (r_norm <= o_.tolerance * scale) {
+      if (r_norm <= std::max(o_.tolerance, ptc_tolerance_) * scale) {
         if (!contact_ || contact_settled(u)) return true;
         // In equilibrium with this set, but a node is inside or pulls: the set anew
         // (a step would be round-off the line search cannot decrease).
         if (update_active_set(u)) {
           merit = contact_terms(u, r);
-          if (it == o_.max_iterations) return false;
+          if (it == max_iterations || cycles()) return false;
           continue;
         }
       }
-      if (it == o_.max_iterations) return false;
+      if (it == max_iterations) return false;
       ++iterations_;
       if (contact_) add_contact_curvature(u);
       indefinite_ = false;
-      if (!factorize_tangent()) {
+      if (pseudo_transient) {
+        if (!factorize_shifted_tangent()) return false;
+      } else if (!factorize_tangent()) {
         // The contact's curvature made the tangent indefinite (a node pressed hard on the
         // sphere's pole: lambda / |x - c| above its tangential stiffness): LDL^T, no
         // pivoting, which keeps Newton's quadratic rate; without the curvature (a
@@ -431,21 +488,25 @@ class NewtonSolve : public ElasticSolve {
       // leaves |R| a round-off floor that a small load's tolerance can sit below.
       // With spheres, a body at rest under no load (a sphere not yet touching) has |R|
       // and |u| at round-off: |u| counts at least the smallest radius.
+      // (Not while pseudo-time damps the step: a small step there is not convergence.)
       const double u_scale = contact_ ? std::max(u.norm(), spheres_->radii().minCoeff()) : u.norm();
-      if (du_full.norm() <= o_.tolerance * u_scale) {
+      if (ptc_shift_ == 0 && du_full.norm() <= o_.tolerance * u_scale) {
         u += du_full;
         if (!contact_) return true;
         for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = lambda_new_(static_cast<Eigen::Index>(a));
         if (contact_settled(u)) return true;
-        update_active_set(u);
+        const bool changed = update_active_set(u);
         if (!assemble(u, true)) return false;
         residual(f, r);
         merit = contact_terms(u, r);
+        if (changed && cycles()) return false;
         continue;
       }
       // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and
       // lowers |R| (with spheres, the merit |R(u, lambda)| + k_max |g_A(u)|, lambda
-      // moved with the step).
+      // moved with the step). Pseudo-transient continuation takes its damped step
+      // whole where the law stays defined (Kelley and Keyes 1998 use no line search):
+      // crossing a snap, the merit must rise before it falls.
       bool accepted = false;
       double step = 1;
       for (; step > 1.0 / 256 && !accepted; step /= 2) {
@@ -456,10 +517,12 @@ class NewtonSolve : public ElasticSolve {
           for (size_t a = 0; a < active_.size(); ++a)
             trial_lambda_[a] = active_[a].lambda + step * (lambda_new_(static_cast<Eigen::Index>(a)) - active_[a].lambda);
           const double m = contact_terms(u_try, r, &trial_lambda_);
-          accepted = m < merit || m <= o_.tolerance * scale;  // or already at the converged level (round-off)
+          // or already at the converged level (round-off)
+          accepted = pseudo_transient || m < merit || m <= o_.tolerance * scale;
           if (accepted) merit = m;
         } else {
-          accepted = r.norm() < r_norm;
+          accepted = pseudo_transient || r.norm() < r_norm;
+          if (accepted) merit = r.norm();
         }
         if (accepted) break;
       }
@@ -467,9 +530,97 @@ class NewtonSolve : public ElasticSolve {
       u = u_try;
       if (contact_) {
         for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = trial_lambda_[a];
-        if (update_active_set(u)) merit = contact_terms(u, r);  // the set changed: its merit anew
+        if (update_active_set(u)) {
+          merit = contact_terms(u, r);  // the set changed: its merit anew
+          if (cycles()) return false;
+        }
       }
     }
+  }
+
+  // --- Pseudo-transient continuation (Kelley and Keyes 1998) ---
+  //
+  // Past a fold of the quasi-static path Newton has no nearby equilibrium to converge
+  // to, and where the tangent is indefinite it is drawn to the saddle the fold leaves
+  // behind. Pseudo-transient continuation (Kelley and Keyes 1998, SIAM J. Numer. Anal.
+  // 35, eq. 1.3) damps each Newton step by a pseudo-time term,
+  //   (K~ + V / delta) du = -R,   V = the rest stiffness's diagonal,
+  // a gradient flow of the energy while 1 / delta is large, Newton's step as it
+  // vanishes. Here 1 / delta is the smallest on a ladder (factors of 4 from a quarter
+  // of the last one, from 0) for which K~ + V / delta is positive definite (Nocedal
+  // and Wright 2006, Algorithm 3.3, Cholesky with an added multiple of the identity):
+  // each step is then a descent direction of the energy on the free dofs, so the
+  // iteration leaves the saddle for a minimum, the contact's Schur complement is
+  // positive definite and the primal-dual set update does not cycle on it; where the
+  // tangent is positive definite it is Newton's step. Converged means the static KKT
+  // conditions, as Newton's: the pseudo-time term only shapes the path.
+
+  /// Pseudo-time's factor at the start (1: V doubles the tangent's diagonal); the
+  /// smallest nonzero factor tried.
+  static constexpr double kPseudoTimeStart = 1, kPseudoTimeSmallest = 1e-6;
+  /// The relative KKT residual at which pseudo-time hands over to plain Newton.
+  static constexpr double kPseudoTimeLoose = 1e-6;
+  /// Iterations a pseudo-transient continuation may take.
+  static constexpr int kPseudoTransientIterations = 400;
+
+  /// Newton from u at f by pseudo-transient continuation down to kPseudoTimeLoose
+  /// (relative KKT residual), then plain Newton from there (quadratic near the
+  /// minimum found), or, if that fails, pseudo-time down to Newton's tolerance.
+  bool continue_pseudo_transiently(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
+    ptc_shift_ = kPseudoTimeStart;
+    ptc_tolerance_ = kPseudoTimeLoose;
+    bool converged = newton(f, u);
+    ptc_shift_ = 0;
+    ptc_tolerance_ = 0;
+    if (!converged) return false;
+    const std::vector<ActivePair> set = active_;
+    Eigen::VectorXd polished = u;
+    if (newton(f, polished)) {
+      u = polished;
+      return true;
+    }
+    active_ = set;
+    ptc_shift_ = kPseudoTimeSmallest;
+    converged = newton(f, u);
+    ptc_shift_ = 0;
+    return converged;
+  }
+
+  /// Factorises the tangent last assembled plus 1 / delta V, 1 / delta the smallest
+  /// on the ladder (from ptc_shift_ / 4) that makes it positive definite; ptc_shift_
+  /// becomes it. False if none up to 1e6 does.
+  bool factorize_shifted_tangent() {
+    double added = 0;
+    double shift = ptc_shift_ / 4 < kPseudoTimeSmallest ? 0 : ptc_shift_ / 4;
+    for (;;) {
+      for (size_t d = 0; d < diagonal_.size(); ++d)
+        K_full_.valuePtr()[diagonal_[d]] += (shift - added) * rest_diagonal_(static_cast<Eigen::Index>(d));
+      added = shift;
+      if (factorize_tangent()) break;
+      shift = std::max(4 * shift, kPseudoTimeSmallest);
+      if (shift > 1e6) return false;
+    }
+    ptc_shift_ = std::max(shift, kPseudoTimeSmallest);  // the next ladder starts from a quarter of it (or 0)
+    return true;
+  }
+
+  /// Whether the active set, just changed, was entered before in this Newton solve
+  /// with a merit not more than twice the present one: the primal-dual update cycles
+  /// (it has no descent to show for the round; Hintermueller, Ito and Kunisch 2002
+  /// prove it monotone only for an M-matrix, and the contact's curvature can make the
+  /// Schur complement indefinite). Records the set otherwise.
+  bool set_cycles(double merit) {
+    set_key_.clear();
+    for (const ActivePair& p : active_) set_key_.emplace_back(p.vertex, p.sphere);
+    std::sort(set_key_.begin(), set_key_.end());
+    for (auto& [key, seen_merit] : sets_seen_)
+      if (key == set_key_) {
+        if (merit > 0.5 * seen_merit) return true;
+        seen_merit = merit;
+        return false;
+      }
+    sets_seen_.emplace_back(set_key_, merit);
+    return false;
   }
 
   // --- Rigid spheres (header comment) ---
@@ -648,7 +799,14 @@ class NewtonSolve : public ElasticSolve {
   Eigen::VectorXd f_int_, f_int_solution_, u_converged_, f_converged_;
   Eigen::VectorXd inertia_;    ///< implicit Euler: the lumped mass over h^2, per dof
   Eigen::VectorXd velocity_;   ///< implicit Euler: v_n
-  std::vector<int> diagonal_;  ///< implicit Euler: each dof's diagonal entry in K_full_'s values
+  std::vector<int> diagonal_;  ///< each dof's diagonal entry in K_full_'s values
+  Eigen::VectorXd rest_diagonal_;  ///< pseudo-time's V: the rest stiffness's diagonal (N/m), per dof
+  double ptc_shift_ = 0;           ///< pseudo-transient continuation's 1 / delta (0: plain Newton)
+  double ptc_tolerance_ = 0;       ///< > 0: the relative KKT residual pseudo-time stops at
+  int rescues_ = 0;                ///< pseudo-transient continuations in the last solve (0 or 1)
+  long rescues_total_ = 0, active_set_cycles_ = 0;
+  std::vector<std::pair<std::vector<std::pair<int, int>>, double>> sets_seen_;  ///< (set, merit) this Newton solve
+  std::vector<std::pair<int, int>> set_key_;
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
   // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
   double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0, largest_prescribed_left_ = 0;
