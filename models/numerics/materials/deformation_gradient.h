@@ -28,9 +28,10 @@ inline Eigen::Matrix3d unflatten(const Vector9d& a) { return Eigen::Map<const Ei
 
 /// The cofactor matrix cof F = dJ/dF (3x3), which is J F^-T when F is invertible
 /// and is defined (polynomial) for every F: with f0, f1, f2 the columns of F, its
-/// columns are f1 x f2, f2 x f0, f0 x f1. Written out: Eigen's cross() of two
-/// columns was an out-of-line call in the VBD sweep (docs/realtime_nonlinear.md).
-inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
+/// columns are f1 x f2, f2 x f0, f0 x f1. Written out and always inlined: Eigen's
+/// cross() of two columns, and this function, were out-of-line calls in the VBD
+/// sweep, the result passed through memory (docs/realtime_nonlinear.md).
+[[gnu::always_inline]] inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
   Eigen::Matrix3d C;
   for (int j = 0; j < 3; ++j) {
     const int a = (j + 1) % 3, b = (j + 2) % 3;  // column j is f_a x f_b

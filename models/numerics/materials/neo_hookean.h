@@ -75,8 +75,9 @@ struct NeoHookean {
   /// P(F) g, node_stiffness(F, g), cof(F) g and J together (node_terms.h), with J,
   /// ln J, 1/J and c = cof(F) g computed once: P g = mu F g + (lambda ln J - mu) / J c,
   /// J = f0 . (f1 x f2) (f0 and the first column of cof F). Equal to the separate
-  /// functions to round-off. Throws std::domain_error if det F <= 0.
-  NodeTerms node_terms(const Eigen::Matrix3d& F, const Eigen::Vector3d& g) const {
+  /// functions to round-off. Inlined (the sweep's inner loop: as a call, its result
+  /// went through memory). Throws std::domain_error if det F <= 0.
+  [[gnu::always_inline]] NodeTerms node_terms(const Eigen::Matrix3d& F, const Eigen::Vector3d& g) const {
     const Eigen::Matrix3d C = cofactor(F);
     const double J = F.col(0).dot(C.col(0));
     if (!(J > 0)) throw_inverted("neo_hookean", "node terms", J);

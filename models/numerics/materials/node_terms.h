@@ -35,8 +35,9 @@ struct HasNodeTerms<Law, std::void_t<decltype(std::declval<const Law&>().node_te
 
 /// The node terms of `law` at F for shape gradient g (header comment). Throws what
 /// the law throws (std::domain_error at det F <= 0 for a law undefined there).
+/// Inlined: called in the sweep's inner loop, where as a call its result went through memory.
 template <class Law>
-NodeTerms node_terms(const Law& law, const Eigen::Matrix3d& F, const Eigen::Vector3d& g) {
+[[gnu::always_inline]] inline NodeTerms node_terms(const Law& law, const Eigen::Matrix3d& F, const Eigen::Vector3d& g) {
   if constexpr (HasNodeTerms<Law>::value) {
     return law.node_terms(F, g);
   } else {

@@ -172,7 +172,7 @@ class VbdSolve : public TetTimeStepper<Law> {
 
   /// F of a visit's tet with its vertex at xv: F = sum_a x_a g_a^T (tet_element.h),
   /// written out (an Eigen 3x4 by 4x3 product was an out-of-line call).
-  Eigen::Matrix3d deformation_gradient(const TetVisit& visit, const Eigen::Vector3d& xv) const {
+  [[gnu::always_inline]] Eigen::Matrix3d deformation_gradient(const TetVisit& visit, const Eigen::Vector3d& xv) const {
     const auto x1 = x_.col(visit.other[0]), x2 = x_.col(visit.other[1]), x3 = x_.col(visit.other[2]);
     Eigen::Matrix3d F;
     for (int j = 0; j < 3; ++j)
