@@ -64,6 +64,18 @@ std::unique_ptr<ElasticSolve> make_for_law(const std::string& law, const Elastic
   });
 }
 
+/// F = sum_a x_a g_a^T of a tet whose nodes are at x0..x3 with shape gradients g
+/// (column a: node a's), the outer products written out and always inlined (an Eigen
+/// 3x4 by 4x3 product was an out-of-line call, a quarter of a VBD sweep; as a call,
+/// F went through memory; docs/realtime_nonlinear.md).
+template <class X0, class X1, class X2, class X3>
+[[gnu::always_inline]] inline Eigen::Matrix3d tet_F(const Eigen::Matrix<double, 3, 4>& g, const X0& x0, const X1& x1,
+                                                    const X2& x2, const X3& x3) {
+  Eigen::Matrix3d F;
+  for (int j = 0; j < 3; ++j) F.col(j) = x0 * g(j, 0) + x1 * g(j, 1) + x2 * g(j, 2) + x3 * g(j, 3);
+  return F;
+}
+
 template <class Law>
 class TetTimeStepper : public ElasticSolve {
  public:
@@ -170,16 +182,10 @@ class TetTimeStepper : public ElasticSolve {
     return true;
   }
 
-  /// F of tet t at positions x (3 by #V): F = sum_a x_a g_a^T (tet_element.h), the
-  /// outer products written out; gathered into a 3 x 4 block and multiplied, Eigen's
-  /// product was an out-of-line call and a quarter of a VBD sweep (docs/realtime_nonlinear.md).
+  /// F of tet t at positions x (3 by #V) (tet_F).
   Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
-    const Eigen::Matrix<double, 3, 4>& g = shapes_[static_cast<size_t>(t)].gradients;
-    Eigen::Matrix3d F;
-    for (int j = 0; j < 3; ++j)
-      F.col(j) = x.col(T_(t, 0)) * g(j, 0) + x.col(T_(t, 1)) * g(j, 1) + x.col(T_(t, 2)) * g(j, 2) +
-                 x.col(T_(t, 3)) * g(j, 3);
-    return F;
+    return tet_F(shapes_[static_cast<size_t>(t)].gradients, x.col(T_(t, 0)), x.col(T_(t, 1)), x.col(T_(t, 2)),
+                 x.col(T_(t, 3)));
   }
 
   /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that does not.

@@ -170,14 +170,9 @@ class VbdSolve : public TetTimeStepper<Law> {
     });
   }
 
-  /// F of a visit's tet with its vertex at xv: F = sum_a x_a g_a^T (tet_element.h),
-  /// written out (an Eigen 3x4 by 4x3 product was an out-of-line call).
+  /// F of a visit's tet with its vertex at xv (tet_F, the vertex's term first).
   [[gnu::always_inline]] Eigen::Matrix3d deformation_gradient(const TetVisit& visit, const Eigen::Vector3d& xv) const {
-    const auto x1 = x_.col(visit.other[0]), x2 = x_.col(visit.other[1]), x3 = x_.col(visit.other[2]);
-    Eigen::Matrix3d F;
-    for (int j = 0; j < 3; ++j)
-      F.col(j) = xv * visit.g(j, 0) + x1 * visit.g(j, 1) + x2 * visit.g(j, 2) + x3 * visit.g(j, 3);
-    return F;
+    return tet_F(visit.g, xv, x_.col(visit.other[0]), x_.col(visit.other[1]), x_.col(visit.other[2]));
   }
 
   /// One Newton step on the block of vertex order_[p] of the incremental potential.
