@@ -72,7 +72,8 @@ template <class X0, class X1, class X2, class X3>
 [[gnu::always_inline]] inline Eigen::Matrix3d tet_F(const Eigen::Matrix<double, 3, 4>& g, const X0& x0, const X1& x1,
                                                     const X2& x2, const X3& x3) {
   Eigen::Matrix3d F;
-  for (int j = 0; j < 3; ++j) F.col(j) = x0 * g(j, 0) + x1 * g(j, 1) + x2 * g(j, 2) + x3 * g(j, 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) F(i, j) = x0(i) * g(j, 0) + x1(i) * g(j, 1) + x2(i) * g(j, 2) + x3(i) * g(j, 3);
   return F;
 }
 
