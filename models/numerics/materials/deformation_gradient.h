@@ -28,12 +28,17 @@ inline Eigen::Matrix3d unflatten(const Vector9d& a) { return Eigen::Map<const Ei
 
 /// The cofactor matrix cof F = dJ/dF (3x3), which is J F^-T when F is invertible
 /// and is defined (polynomial) for every F: with f0, f1, f2 the columns of F, its
-/// columns are f1 x f2, f2 x f0, f0 x f1.
-inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
+/// columns are f1 x f2, f2 x f0, f0 x f1. Written out and always inlined: Eigen's
+/// cross() of two columns, and this function, were out-of-line calls in the VBD
+/// sweep, the result passed through memory (docs/realtime_nonlinear.md).
+[[gnu::always_inline]] inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
   Eigen::Matrix3d C;
-  C.col(0) = F.col(1).cross(F.col(2));
-  C.col(1) = F.col(2).cross(F.col(0));
-  C.col(2) = F.col(0).cross(F.col(1));
+  for (int j = 0; j < 3; ++j) {
+    const int a = (j + 1) % 3, b = (j + 2) % 3;  // column j is f_a x f_b
+    C(0, j) = F(1, a) * F(2, b) - F(2, a) * F(1, b);
+    C(1, j) = F(2, a) * F(0, b) - F(0, a) * F(2, b);
+    C(2, j) = F(0, a) * F(1, b) - F(1, a) * F(0, b);
+  }
   return C;
 }
 

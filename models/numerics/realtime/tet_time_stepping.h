@@ -64,6 +64,19 @@ std::unique_ptr<ElasticSolve> make_for_law(const std::string& law, const Elastic
   });
 }
 
+/// F = sum_a x_a g_a^T of a tet whose nodes are at x0..x3 with shape gradients g
+/// (column a: node a's), the outer products written out and always inlined (an Eigen
+/// 3x4 by 4x3 product was an out-of-line call, a quarter of a VBD sweep; as a call,
+/// F went through memory; docs/realtime_nonlinear.md).
+template <class X0, class X1, class X2, class X3>
+[[gnu::always_inline]] inline Eigen::Matrix3d tet_F(const Eigen::Matrix<double, 3, 4>& g, const X0& x0, const X1& x1,
+                                                    const X2& x2, const X3& x3) {
+  Eigen::Matrix3d F;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) F(i, j) = x0(i) * g(j, 0) + x1(i) * g(j, 1) + x2(i) * g(j, 2) + x3(i) * g(j, 3);
+  return F;
+}
+
 template <class Law>
 class TetTimeStepper : public ElasticSolve {
  public:
@@ -170,16 +183,10 @@ class TetTimeStepper : public ElasticSolve {
     return true;
   }
 
-  /// F of tet t at positions x (3 by #V): F = sum_a x_a g_a^T (tet_element.h), the
-  /// outer products written out; gathered into a 3 x 4 block and multiplied, Eigen's
-  /// product was an out-of-line call and a quarter of a VBD sweep (docs/realtime_nonlinear.md).
+  /// F of tet t at positions x (3 by #V) (tet_F).
   Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
-    const Eigen::Matrix<double, 3, 4>& g = shapes_[static_cast<size_t>(t)].gradients;
-    Eigen::Matrix3d F;
-    for (int j = 0; j < 3; ++j)
-      F.col(j) = x.col(T_(t, 0)) * g(j, 0) + x.col(T_(t, 1)) * g(j, 1) + x.col(T_(t, 2)) * g(j, 2) +
-                 x.col(T_(t, 3)) * g(j, 3);
-    return F;
+    return tet_F(shapes_[static_cast<size_t>(t)].gradients, x.col(T_(t, 0)), x.col(T_(t, 1)), x.col(T_(t, 2)),
+                 x.col(T_(t, 3)));
   }
 
   /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that does not.
@@ -234,12 +241,39 @@ class TetTimeStepper : public ElasticSolve {
     }
   }
 
+  /// Where each member of the thread team starts in each class of a sweep: member m
+  /// runs items [shares[c][m], shares[c][m + 1]) of class c (members + 1 bounds a class).
+  using Shares = std::vector<std::vector<size_t>>;
+
+  /// Shares of about equal cost, cost(item) >= 0 (a VBD vertex costs its tets, from
+  /// 4 to 60 on TetGen's meshes, so equal counts leave one member waiting at the
+  /// barrier): member m's share ends at the first item where the class's running
+  /// cost reaches m + 1 members' part.
+  template <class Cost>
+  Shares shares_by_cost(const Colouring& classes, Cost&& cost) const {
+    const size_t members = team_ ? static_cast<size_t>(team_->size()) : 1;
+    Shares shares;
+    for (const std::vector<int>& c : classes) {
+      std::vector<double> running(c.size() + 1, 0);
+      for (size_t k = 0; k < c.size(); ++k) running[k + 1] = running[k] + cost(c[k]);
+      std::vector<size_t> bounds(members + 1, c.size());
+      bounds[0] = 0;
+      for (size_t m = 1; m < members; ++m) {
+        const double part = running.back() * static_cast<double>(m) / static_cast<double>(members);
+        bounds[m] = static_cast<size_t>(std::lower_bound(running.begin(), running.end(), part) - running.begin());
+      }
+      shares.push_back(std::move(bounds));
+    }
+    return shares;
+  }
+
   /// Runs item(k) for every k of every class, class by class; the items of a class
-  /// are shared out over the thread team in contiguous ranges, a barrier between
-  /// classes. The result does not depend on the team's size (items of a class
-  /// touch disjoint data). No heap allocation.
+  /// are shared out over the thread team in contiguous ranges (equal counts, or
+  /// `shares` from shares_by_cost), a barrier between classes. The result does not
+  /// depend on the team's size or the shares (items of a class touch disjoint
+  /// data). No heap allocation.
   template <class Item>
-  void sweep(const Colouring& classes, Item& item) {
+  void sweep(const Colouring& classes, Item& item, const Shares* shares = nullptr) {
     if (!team_) {
       for (const std::vector<int>& c : classes)
         for (int k : c) item(k);
@@ -247,9 +281,11 @@ class TetTimeStepper : public ElasticSolve {
     }
     const int members = team_->size();
     auto task = [&](int member) {
-      for (const std::vector<int>& c : classes) {
-        const size_t begin = c.size() * static_cast<size_t>(member) / static_cast<size_t>(members);
-        const size_t end = c.size() * static_cast<size_t>(member + 1) / static_cast<size_t>(members);
+      for (size_t i = 0; i < classes.size(); ++i) {
+        const std::vector<int>& c = classes[i];
+        const size_t m = static_cast<size_t>(member);
+        const size_t begin = shares ? (*shares)[i][m] : c.size() * m / static_cast<size_t>(members);
+        const size_t end = shares ? (*shares)[i][m + 1] : c.size() * (m + 1) / static_cast<size_t>(members);
         for (size_t k = begin; k < end; ++k) item(c[k]);
         team_->barrier();
       }

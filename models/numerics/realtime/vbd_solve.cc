@@ -2,6 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <array>
+
+#include "node_terms.h"
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +19,17 @@ const char* start_name(VbdStart s) {
   }
   return "";
 }
+
+/// One tet around a vertex as the vertex's update reads it. The visits are stored
+/// contiguously in sweep order (colour by colour, a colour's vertices in increasing
+/// index, each vertex's tets in increasing index), so that a sweep streams through
+/// them instead of gathering each tet's shape and nodes from wherever TetGen's
+/// numbering put them (docs/realtime_nonlinear.md, "What a frame costs").
+struct TetVisit {
+  Eigen::Matrix<double, 3, 4> g;  ///< column 0: the vertex's own shape gradient; 1..3: the other nodes', 1/m
+  double volume = 0;              ///< rest volume, m^3
+  std::array<int, 3> other{};     ///< the tet's other nodes, in the tet's order
+};
 
 template <class Law>
 class VbdSolve : public TetTimeStepper<Law> {
@@ -37,14 +50,10 @@ class VbdSolve : public TetTimeStepper<Law> {
     if (!(o_.chebyshev_rho >= 0 && o_.chebyshev_rho < 1))
       throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
     const Eigen::Index n = x_.cols();
-    // Tets around each vertex, with the vertex's place in the tet (CSR).
-    VertexTets around = vertex_tets(T_, static_cast<int>(n));
-    offset_ = std::move(around.offset);
-    around_ = std::move(around.around);
     std::vector<int> moving;
     for (Eigen::Index v = 0; v < n; ++v)
       if (free_.col(v).sum() > 0) moving.push_back(static_cast<int>(v));
-    colours_ = colour_vertices(T_, static_cast<int>(n), moving);
+    lay_out_visits(colour_vertices(T_, static_cast<int>(n), moving));
     y_ = x_;
     a_last_ = Eigen::Matrix3Xd::Zero(3, n);
     accelerated_ = prev1_ = prev2_ = x_;
@@ -114,9 +123,9 @@ class VbdSolve : public TetTimeStepper<Law> {
   void sweeps(double h2) {
     prev1_ = prev2_ = x_;
     double omega = 1;
-    auto update = [this, h2](int v) { update_vertex(v, h2); };
+    auto update = [this, h2](int p) { update_vertex(p, h2); };
     for (int k = 1; k <= o_.iterations; ++k) {
-      this->sweep(colours_, update);
+      this->sweep(colours_, update, &shares_);
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
     }
   }
@@ -127,25 +136,65 @@ class VbdSolve : public TetTimeStepper<Law> {
   static constexpr int kCachedTets = 96;
   static constexpr double kMinDet = 1e-9;
 
-  /// One Newton step on vertex v's block of the incremental potential.
-  void update_vertex(int v, double h2) {
+  /// The sweep's data: the vertices in sweep order (order_), their tets' visits
+  /// (visits_, vertex order_[p]'s from visit_begin_[p] to visit_begin_[p + 1]), the
+  /// colour classes as sweep positions, and the thread team's shares of each class by
+  /// tet count.
+  void lay_out_visits(const Colouring& by_vertex) {
+    const VertexTets around = vertex_tets(T_, static_cast<int>(x_.cols()));
+    visit_begin_.push_back(0);
+    for (const std::vector<int>& c : by_vertex) {
+      std::vector<int> positions;
+      for (int v : c) {
+        positions.push_back(static_cast<int>(order_.size()));
+        order_.push_back(v);
+        for (int k = around.offset[static_cast<size_t>(v)]; k < around.offset[static_cast<size_t>(v) + 1]; ++k) {
+          const auto [t, a] = around.around[static_cast<size_t>(k)];
+          const TetShape& shape = shapes_[static_cast<size_t>(t)];
+          TetVisit visit;
+          visit.volume = shape.volume;
+          visit.g.col(0) = shape.gradients.col(a);
+          for (int b = 0, j = 0; b < 4; ++b)
+            if (b != a) {
+              visit.g.col(j + 1) = shape.gradients.col(b);
+              visit.other[static_cast<size_t>(j++)] = T_(t, b);
+            }
+          visits_.push_back(visit);
+        }
+        visit_begin_.push_back(static_cast<int>(visits_.size()));
+      }
+      colours_.push_back(std::move(positions));
+    }
+    shares_ = this->shares_by_cost(colours_, [this](int p) {
+      return static_cast<double>(visit_begin_[static_cast<size_t>(p) + 1] - visit_begin_[static_cast<size_t>(p)]);
+    });
+  }
+
+  /// F of a visit's tet with its vertex at xv (tet_F, the vertex's term first).
+  [[gnu::always_inline]] Eigen::Matrix3d deformation_gradient(const TetVisit& visit, const Eigen::Vector3d& xv) const {
+    return tet_F(visit.g, xv, x_.col(visit.other[0]), x_.col(visit.other[1]), x_.col(visit.other[2]));
+  }
+
+  /// One Newton step on the block of vertex order_[p] of the incremental potential.
+  void update_vertex(int p, double h2) {
+    const int v = order_[static_cast<size_t>(p)];
     const double m = mass_(v) / h2;
-    Eigen::Vector3d gradient = m * (x_.col(v) - y_.col(v));
+    const Eigen::Vector3d from = x_.col(v);
+    Eigen::Vector3d gradient = m * (from - y_.col(v));
     Eigen::Matrix3d H = m * Eigen::Matrix3d::Identity();
     // Per tet around v, det F and cof(F) g: moving v by dx changes F by the rank-one
     // dx g^T, so det F becomes det F + dx . cof(F) g exactly (the matrix determinant
     // lemma), and the positivity check after the step needs no new F.
     std::array<Eigen::Vector4d, kCachedTets> det_change;
-    const int first = offset_[static_cast<size_t>(v)], count = offset_[static_cast<size_t>(v) + 1] - first;
+    const TetVisit* visits = visits_.data() + visit_begin_[static_cast<size_t>(p)];
+    const int count = visit_begin_[static_cast<size_t>(p) + 1] - visit_begin_[static_cast<size_t>(p)];
     const bool cached = keep_positive_ && count <= kCachedTets;
     for (int k = 0; k < count; ++k) {
-      const auto [t, a] = around_[static_cast<size_t>(first + k)];
-      const TetShape& shape = shapes_[static_cast<size_t>(t)];
-      const Eigen::Matrix3d F = this->deformation_gradient(t, x_);
-      const Eigen::Vector3d g = shape.gradients.col(a);
-      gradient += shape.volume * (this->law_.first_piola(F) * g);
-      H += shape.volume * this->law_.node_stiffness(F, g);
-      if (cached) det_change[static_cast<size_t>(k)] << cofactor(F) * g, F.determinant();
+      const TetVisit& visit = visits[k];
+      const NodeTerms terms = node_terms(this->law_, deformation_gradient(visit, from), visit.g.col(0));
+      gradient += visit.volume * terms.force;
+      H += visit.volume * terms.stiffness;
+      if (cached) det_change[static_cast<size_t>(k)] << terms.cof_g, terms.J;
     }
     for (int i = 0; i < 3; ++i)
       if (free_(i, v) == 0) {  // a held component does not move
@@ -159,9 +208,9 @@ class VbdSolve : public TetTimeStepper<Law> {
     Eigen::Vector3d dx = -llt.solve(gradient);
     if (!dx.allFinite()) return;
     if (this->contact_on() && this->surface_vertex(v) >= 0) constrain_to_spheres(v, llt, dx);
-    const Eigen::Vector3d from = x_.col(v);
     for (int halving = 0; halving < 10; ++halving) {
-      if (!keep_positive_ || (cached ? positive_after(det_change, count, dx) : positive_around(v, from + dx))) {
+      if (!keep_positive_ ||
+          (cached ? positive_after(det_change, count, dx) : positive_around(visits, count, from + dx))) {
         x_.col(v) = from + dx;
         return;
       }
@@ -204,15 +253,12 @@ class VbdSolve : public TetTimeStepper<Law> {
     return true;
   }
 
-  /// The same, recomputing F with vertex v at `at`, for a vertex in more tets than kCachedTets.
-  bool positive_around(int v, const Eigen::Vector3d& at) {
-    const Eigen::Vector3d from = x_.col(v);
-    x_.col(v) = at;
-    bool positive = true;
-    for (int k = offset_[static_cast<size_t>(v)]; k < offset_[static_cast<size_t>(v) + 1] && positive; ++k)
-      positive = this->deformation_gradient(around_[static_cast<size_t>(k)].first, x_).determinant() > kMinDet;
-    x_.col(v) = from;
-    return positive;
+  /// The same, recomputing F of the vertex's `count` visits with it at `at`, for a
+  /// vertex in more tets than kCachedTets.
+  bool positive_around(const TetVisit* visits, int count, const Eigen::Vector3d& at) const {
+    for (int k = 0; k < count; ++k)
+      if (!(deformation_gradient(visits[k], at).determinant() > kMinDet)) return false;
+    return true;
   }
 
   /// Chebyshev semi-iterative acceleration (Wang 2015, as Chen et al. 2024 use it):
@@ -237,9 +283,11 @@ class VbdSolve : public TetTimeStepper<Law> {
 
   VbdSettings o_;
   bool keep_positive_;
-  std::vector<int> offset_;
-  std::vector<std::pair<int, int>> around_;  ///< per vertex (CSR): (tet, the vertex's place in it)
-  Colouring colours_;
+  std::vector<int> order_;        ///< the moving vertices in sweep order
+  std::vector<TetVisit> visits_;  ///< their tets, in sweep order (lay_out_visits)
+  std::vector<int> visit_begin_;  ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
+  Colouring colours_;             ///< the vertex colours, as sweep positions
+  typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
   Eigen::Matrix3Xd y_;                       ///< the inertial target
   Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
   Eigen::Matrix3Xd accelerated_, prev1_, prev2_;

@@ -1,5 +1,6 @@
 #include "xpbd_tet_solve.h"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -8,6 +9,16 @@
 
 namespace tb {
 namespace {
+
+/// One tet as the sweep reads it. Stored contiguously in sweep order (colour by
+/// colour, a colour's tets in increasing index), so that a sweep streams through
+/// them instead of reading each tet's shape, nodes and compliances from wherever the
+/// colouring scattered the tet (as the VBD sweep's visits, vbd_solve.cc).
+struct TetInSweep {
+  Eigen::Matrix<double, 3, 4> g;  ///< shape gradients, column a: node a's, 1/m
+  std::array<int, 4> nodes{};
+  double compliance_d = 0, compliance_h = 0;  ///< 1 / (mu V), 1 / (lambda V)
+};
 
 class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   using Base = TetTimeStepper<XpbdNeoHookean>;
@@ -24,13 +35,20 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       inverse_mass_.col(v) = free_.col(v) / mass_(v);
       moving[static_cast<size_t>(v)] = free_.col(v).sum() > 0;
     }
-    colours_ = colour_tets(T_, static_cast<int>(n), moving);
-    compliance_d_.resize(T_.rows());
-    compliance_h_.resize(T_.rows());
-    for (Eigen::Index t = 0; t < T_.rows(); ++t) {
-      const double V = shapes_[static_cast<size_t>(t)].volume;
-      compliance_d_(t) = 1 / (law_.mu * V);
-      compliance_h_(t) = 1 / (law_.lambda * V);
+    // The colours as sweep positions, the tets' data in that order.
+    for (const std::vector<int>& c : colour_tets(T_, static_cast<int>(n), moving)) {
+      std::vector<int> positions;
+      for (int t : c) {
+        positions.push_back(static_cast<int>(tets_.size()));
+        const TetShape& shape = shapes_[static_cast<size_t>(t)];
+        TetInSweep tet;
+        tet.g = shape.gradients;
+        for (int a = 0; a < 4; ++a) tet.nodes[static_cast<size_t>(a)] = T_(t, a);
+        tet.compliance_d = 1 / (law_.mu * shape.volume);
+        tet.compliance_h = 1 / (law_.lambda * shape.volume);
+        tets_.push_back(tet);
+      }
+      colours_.push_back(std::move(positions));
     }
     lambda_d_ = Eigen::VectorXd::Zero(T_.rows());
     lambda_h_ = Eigen::VectorXd::Zero(T_.rows());
@@ -43,7 +61,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     const double h = s_.time_step / n_sub;
     const double keep = 1 / (1 + o_.damping * h);
     const Eigen::Index n = x_.cols();
-    auto project = [this, h](int t) { project_tet(t, h); };
+    auto project = [this, h](int p) { project_tet(p, h); };
     for (int s = 1; s <= n_sub; ++s) {
       x_sub_ = x_;
       const double along = static_cast<double>(s) / n_sub;
@@ -96,19 +114,19 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// the other's large rest-state correction (C_D = sqrt 3 at rest, balanced by C_H),
   /// and with lambda reset each sub-step the fixed point left the cube of
   /// tests/models/realtime 30 % from the law's equilibrium; together, their rest
-  /// corrections cancel exactly (docs/realtime_nonlinear.md).
-  void project_tet(int t, double h) {
-    const TetShape& shape = shapes_[static_cast<size_t>(t)];
+  /// corrections cancel exactly (docs/realtime_nonlinear.md). p: the tet's sweep position.
+  void project_tet(int p, double h) {
+    const TetInSweep& tet = tets_[static_cast<size_t>(p)];
     const double h2 = h * h;
-    const Eigen::Matrix3d F = deformation_gradient(t, x_);
+    const Eigen::Matrix3d F = tet_F(tet.g, x_.col(tet.nodes[0]), x_.col(tet.nodes[1]), x_.col(tet.nodes[2]), x_.col(tet.nodes[3]));
     const double norm = F.norm();
     if (!(norm > 1e-12)) return;
-    const Eigen::Matrix<double, 3, 4> grad_d = (F / norm) * shape.gradients;
-    const Eigen::Matrix<double, 3, 4> grad_h = cofactor(F) * shape.gradients;
-    const double alpha_d = compliance_d_(t) / h2, alpha_h = compliance_h_(t) / h2;
+    const Eigen::Matrix<double, 3, 4> grad_d = (F / norm) * tet.g;
+    const Eigen::Matrix<double, 3, 4> grad_h = cofactor(F) * tet.g;
+    const double alpha_d = tet.compliance_d / h2, alpha_h = tet.compliance_h / h2;
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     for (int a = 0; a < 4; ++a) {
-      const Eigen::Vector3d w = inverse_mass_.col(T_(t, a));
+      const Eigen::Vector3d w = inverse_mass_.col(tet.nodes[static_cast<size_t>(a)]);
       A(0, 0) += w.dot(grad_d.col(a).cwiseAbs2());
       A(1, 1) += w.dot(grad_h.col(a).cwiseAbs2());
       A(0, 1) += w.dot(grad_d.col(a).cwiseProduct(grad_h.col(a)));
@@ -117,18 +135,21 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     A(1, 0) = A(0, 1);
     A(0, 0) += alpha_d;
     A(1, 1) += alpha_h;
-    const Eigen::Vector2d rhs(-(norm + alpha_d * lambda_d_(t)), -(F.determinant() - law_.alpha + alpha_h * lambda_h_(t)));
+    const Eigen::Vector2d rhs(-(norm + alpha_d * lambda_d_(p)), -(F.determinant() - law_.alpha + alpha_h * lambda_h_(p)));
     const Eigen::Vector2d d_lambda = A.inverse() * rhs;  // A is symmetric positive definite (alpha~ > 0)
-    lambda_d_(t) += d_lambda(0);
-    lambda_h_(t) += d_lambda(1);
-    for (int a = 0; a < 4; ++a)
-      x_.col(T_(t, a)) += inverse_mass_.col(T_(t, a)).cwiseProduct(d_lambda(0) * grad_d.col(a) + d_lambda(1) * grad_h.col(a));
+    lambda_d_(p) += d_lambda(0);
+    lambda_h_(p) += d_lambda(1);
+    for (int a = 0; a < 4; ++a) {
+      const int node = tet.nodes[static_cast<size_t>(a)];
+      x_.col(node) += inverse_mass_.col(node).cwiseProduct(d_lambda(0) * grad_d.col(a) + d_lambda(1) * grad_h.col(a));
+    }
   }
 
   XpbdTetSettings o_;
-  Colouring colours_;
+  std::vector<TetInSweep> tets_;   ///< the tets in sweep order
+  Colouring colours_;              ///< the tet colours, as sweep positions
   Eigen::Matrix3Xd inverse_mass_;  ///< per component: 1 / m where free, 0 where held
-  Eigen::VectorXd compliance_d_, compliance_h_, lambda_d_, lambda_h_;
+  Eigen::VectorXd lambda_d_, lambda_h_;  ///< the multipliers, by sweep position
   Eigen::Matrix3Xd x_sub_;  ///< positions at the sub-step's start
 };
 

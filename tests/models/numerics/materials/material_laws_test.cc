@@ -29,6 +29,7 @@
 #include "material.h"
 #include "neo_hookean.h"
 #include "neo_hookean_isochoric.h"
+#include "node_terms.h"
 #include "stable_neo_hookean.h"
 #include "xpbd_neo_hookean.h"
 #include "material_law_visit.h"
@@ -241,6 +242,31 @@ TYPED_TEST(EveryLaw, NodeStiffnessIsTheElementStiffnessDiagonalBlock) {
   }
 }
 
+// node_terms (node_terms.h; a closed form sharing J, ln J and cof F where the law
+// writes one, neo_hookean.h) against the law's own first_piola, node_stiffness,
+// cofactor and determinant, to 1e-12 relative (rounding); and cof_g as the exact
+// change of det F when the node moves by dx (F + dx g^T, the matrix determinant lemma).
+TYPED_TEST(EveryLaw, NodeTermsAreTheNodesForceStiffnessAndDeterminantChange) {
+  const Vec3 X[4] = {Vec3(0, 0, 0), Vec3(0.012, 0.001, 0), Vec3(0.002, 0.01, 0.001), Vec3(0.001, 0.002, 0.011)};
+  const TetShape shape = tet_shape(X[0], X[1], X[2], X[3]);
+  const Vec3 dx(1e-3, -2e-3, 0.5e-3);
+  for (double nu : kPoisson) {
+    const TypeParam law(lame_parameters(kE, nu));
+    for (const Mat3& F : all_samples()) {
+      for (int a = 0; a < 4; ++a) {
+        const Vec3 g = shape.gradients.col(a);
+        const NodeTerms t = node_terms(law, F, g);
+        EXPECT_LT(relative(t.force, law.first_piola(F) * g), 1e-12) << "nu " << nu << " node " << a << "\nF\n" << F;
+        EXPECT_LT(relative(t.stiffness, law.node_stiffness(F, g)), 1e-12) << "nu " << nu << " node " << a;
+        EXPECT_LT(relative(t.cof_g, cofactor(F) * g), 1e-14) << "node " << a;
+        EXPECT_NEAR(t.J, F.determinant(), 1e-14 * F.cwiseAbs().maxCoeff() * F.squaredNorm());
+        const Mat3 moved = F + dx * g.transpose();
+        EXPECT_NEAR(t.J + dx.dot(t.cof_g), moved.determinant(), 1e-12 * moved.cwiseAbs().maxCoeff() * moved.squaredNorm());
+      }
+    }
+  }
+}
+
 TYPED_TEST(EveryLaw, TangentHasMajorSymmetry) {
   const TypeParam law(lame_parameters(kE, 0.45));
   std::vector<Mat3> samples = all_samples();
@@ -445,6 +471,11 @@ void expect_undefined_when_inverted(const Law& law, const std::string& name) {
 
 TEST(NeoHookean, UndefinedForNonPositiveJ) {
   expect_undefined_when_inverted(NeoHookean(lame_parameters(kE, 0.45)), "neo_hookean");
+}
+
+TEST(NeoHookean, NodeTermsUndefinedForNonPositiveJ) {
+  const NeoHookean law(lame_parameters(kE, 0.45));
+  for (const Mat3& F : non_positive_J()) EXPECT_THROW(node_terms(law, F, Vec3(1, 2, 3)), std::domain_error) << F;
 }
 
 TEST(NeoHookeanIsochoric, UndefinedForNonPositiveJ) {
