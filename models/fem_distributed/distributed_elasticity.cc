@@ -16,8 +16,9 @@
 //     any values of theirs: K_ff u_f = f_f - K_fp u_p.
 //  5. Each solve: f from the load points (eq. 10 with the cell's shape functions)
 //     and the body force rho g (int rho g N_i over the reference cells: a dead
-//     load, the same integral as the serial consistent masses), CG warm-started from the previous solution; then the reactions (the load's
-//     share minus the internal force at the constrained dofs).
+//     load, the same integral as the serial consistent masses), CG warm-started
+//     from the previous solution; then the reactions (the loads' share minus the
+//     internal force at the constrained dofs).
 #include "distributed_elasticity.h"
 
 #include <Epetra_MultiVector.h>
@@ -609,8 +610,7 @@ void DistributedElasticity::solve(const std::vector<LoadPoint>& load, const Eige
   if (group_values.size() != d.groups.size())
     throw std::invalid_argument("distributed FEM: " + std::to_string(group_values.size()) + " group values for " +
                                 std::to_string(d.groups.size()) + " prescribed groups");
-  if (!gravity.allFinite())
-    throw std::invalid_argument("distributed FEM: the body force's acceleration is not finite");
+  if (!gravity.allFinite()) throw std::invalid_argument("distributed FEM: the body force's acceleration is not finite");
   if (!gravity.isZero() && !(d.density > 0)) {
     std::ostringstream msg;
     msg << "distributed FEM: a body force needs a positive density, not " << d.density;

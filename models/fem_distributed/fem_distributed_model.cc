@@ -65,9 +65,10 @@ class FemDistributedModel : public Model {
                                     p.load_case.loads[static_cast<size_t>(point_load_)].key + " is one");
       point_load_ = static_cast<int>(k);
       try {
-        load_points_ = load.kind == LoadKind::SurfaceTraction
-                           ? disc_load_points(h.fine_volume, h.fine_surface, surface_to_volume_, load.point, load.radius)
-                           : point_load_points(h.fine_volume, load.point);
+        load_points_ =
+            load.kind == LoadKind::SurfaceTraction
+                ? disc_load_points(h.fine_volume, h.fine_surface, surface_to_volume_, load.point, load.radius)
+                : point_load_points(h.fine_volume, load.point);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(where + e.what());
       }

@@ -316,6 +316,12 @@ TEST(DistributedElasticity, BadSettingsAreErrors) {
   }
   EXPECT_NO_THROW(weightless.solve({}, Eigen::Vector3d::Zero())) << "no gravity, no density needed";
   try {
+    weightless.solve({}, Eigen::Vector3d::Zero(), {}, Eigen::Vector3d(0, 0, std::nan("")));
+    ADD_FAILURE() << "a NaN gravity must be an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "distributed FEM: the body force's acceleration is not finite");
+  }
+  try {
     DistributedElasticity(
         c.volume, Material{}, [](const Eigen::Vector3d&) { return false; }, s, MPI_COMM_WORLD);
     ADD_FAILURE() << "an empty support must be an error";

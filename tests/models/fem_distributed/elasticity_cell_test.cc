@@ -34,8 +34,8 @@ struct OneTet {
     std::vector<CellData<3>> cells(1, CellData<3>(4));
     for (unsigned k = 0; k < 4; ++k) cells[0].vertices[k] = k;
     tria.create_triangulation(v, cells, SubCellData());
-    fe_values = std::make_unique<FEValues<3>>(mapping, fe, quadrature,
-                                              update_values | update_gradients | update_JxW_values);
+    fe_values =
+        std::make_unique<FEValues<3>>(mapping, fe, quadrature, update_values | update_gradients | update_JxW_values);
     fe_values->reinit(tria.begin_active());
     for (unsigned i = 0; i < fe.n_dofs_per_cell(); ++i) component.push_back(fe.system_to_component_index(i).first);
   }
