@@ -14,9 +14,11 @@
 //     rigid-body modes as near null space, built once. The groups' columns of K,
 //     kept aside per group and component (group_lift), give the right-hand side of
 //     any values of theirs: K_ff u_f = f_f - K_fp u_p.
-//  5. Each solve: f from the load points (eq. 10 with the cell's shape functions),
-//     CG warm-started from the previous solution; then the reactions (the load's
-//     share minus the internal force at the constrained dofs).
+//  5. Each solve: f from the load points (eq. 10 with the cell's shape functions)
+//     and the body force rho g (int rho g N_i over the reference cells: a dead
+//     load, the same integral as the serial consistent masses), CG warm-started
+//     from the previous solution; then the reactions (the loads' share minus the
+//     internal force at the constrained dofs).
 #include "distributed_elasticity.h"
 
 #include <Epetra_MultiVector.h>
@@ -204,6 +206,7 @@ DistributedElasticity::Impl::Impl(MPI_Comm c, const DistributedSettings& s, cons
     : comm(c),
       settings(s),
       lame(lame_parameters(m)),
+      density(m.density),
       law(&find_material_law(s.law)),
       tria(c),
       fe(FE_SimplexP<3>(static_cast<unsigned>(s.degree)), 3),
@@ -504,6 +507,29 @@ void DistributedElasticity::Impl::add_load(const std::vector<LoadPoint>& load, c
   f.compress(VectorOperation::add);
 }
 
+void DistributedElasticity::Impl::add_body_force(const Eigen::Vector3d& g, Vector& f) {
+  if (g.isZero()) return;
+  if (body_unit.empty()) {
+    const unsigned n = fe.n_dofs_per_cell();
+    FEValues<3> fe_values(mapping, fe, quadrature, update_values | update_JxW_values);
+    dealii::Vector<double> fe_force(n);
+    std::vector<types::global_dof_index> ids(n);
+    body_unit.assign(3, Vector(owned, comm));
+    for (const auto& cell : dof_handler.active_cell_iterators()) {
+      if (!cell->is_locally_owned()) continue;
+      fe_values.reinit(cell);
+      cell->get_dof_indices(ids);
+      for (unsigned c = 0; c < 3; ++c) {
+        body_force_cell(fe_values, component, density * Eigen::Vector3d::Unit(static_cast<Eigen::Index>(c)), fe_force);
+        zero_constraints.distribute_local_to_global(fe_force, ids, body_unit[c]);  // as add_load
+      }
+    }
+    for (Vector& v : body_unit) v.compress(VectorOperation::add);
+  }
+  for (unsigned c = 0; c < 3; ++c)
+    if (g[c] != 0) f.add(g[c], body_unit[c]);
+}
+
 DistributedElasticity::Impl::Vector DistributedElasticity::Impl::ghosted(const Vector& owned_vector) const {
   Vector g(owned, relevant, comm);
   g = owned_vector;
@@ -515,15 +541,14 @@ void DistributedElasticity::Impl::set_held(Vector& x, const std::vector<Eigen::V
   x.compress(VectorOperation::insert);
 }
 
-void DistributedElasticity::Impl::solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-                                               const std::vector<Eigen::Vector3d>& values) {
+void DistributedElasticity::Impl::solve_linear(const Vector& f_external, const std::vector<Eigen::Vector3d>& values) {
   auto clock = std::chrono::steady_clock::now();
   Vector f(lift);
   // K_ff u_f = f_f - K_fp u_p: each held component's value times its column sum.
   for (size_t g = 0; g < groups.size(); ++g)
     for (unsigned c = 0; c < 3; ++c)
       if (groups[g].components[c] && values[g][c] != 0) f.add(values[g][c], group_lift[3 * g + c]);
-  add_load(load, force, f);
+  f += f_external;
   Vector x(u);
   set_held(x, nullptr);  // a held dof's row is decoupled, with right-hand side 0
   stats.cg_iterations = cg(f, x, settings.cg_tolerance);
@@ -533,15 +558,16 @@ void DistributedElasticity::Impl::solve_linear(const std::vector<LoadPoint>& loa
   u = x;
 }
 
-void DistributedElasticity::Impl::measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force) {
+void DistributedElasticity::Impl::measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
+                                                    const Eigen::Vector3d& g) {
   const unsigned n = fe.n_dofs_per_cell();
   const size_t support = groups.size();  // the support's slot, after the groups'
   std::vector<double> sums(3 * (support + 1), 0.0);
   const Vector u_ghosted = ghosted(u);
   const auto by_tet = points_by_tet(load);
-  FEValues<3> fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
+  FEValues<3> fe_values(mapping, fe, quadrature, update_values | update_gradients | update_JxW_values);
   FullMatrix<double> Ke;
-  dealii::Vector<double> u_cell(n), Re(n), fe_force(n);
+  dealii::Vector<double> u_cell(n), Re(n), fe_force(n), fe_body(n);
   std::vector<Tensor<1, 3>> grad;
   std::vector<types::global_dof_index> ids(n);
   const bool linear = settings.law == "linear";
@@ -562,6 +588,10 @@ void DistributedElasticity::Impl::measure_reactions(const std::vector<LoadPoint>
       cell_load(cell, it->second, force, fe_force);
     else
       fe_force = 0;
+    if (!g.isZero()) {
+      body_force_cell(fe_values, component, density * g, fe_body);
+      fe_force += fe_body;
+    }
     for (unsigned i = 0; i < n; ++i) {
       if (!zero_constraints.is_constrained(ids[i])) continue;
       const auto held = group_of_dof.find(ids[i]);
@@ -575,17 +605,26 @@ void DistributedElasticity::Impl::measure_reactions(const std::vector<LoadPoint>
 }
 
 void DistributedElasticity::solve(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-                                  const std::vector<Eigen::Vector3d>& group_values) {
+                                  const std::vector<Eigen::Vector3d>& group_values, const Eigen::Vector3d& gravity) {
   Impl& d = *impl_;
   if (group_values.size() != d.groups.size())
     throw std::invalid_argument("distributed FEM: " + std::to_string(group_values.size()) + " group values for " +
                                 std::to_string(d.groups.size()) + " prescribed groups");
+  if (!gravity.allFinite()) throw std::invalid_argument("distributed FEM: the body force's acceleration is not finite");
+  if (!gravity.isZero() && !(d.density > 0)) {
+    std::ostringstream msg;
+    msg << "distributed FEM: a body force needs a positive density, not " << d.density;
+    throw std::invalid_argument(msg.str());
+  }
+  Impl::Vector f(d.owned, d.comm);
+  d.add_load(load, force, f);
+  d.add_body_force(gravity, f);
   if (d.settings.law == "linear")
-    d.solve_linear(load, force, group_values);
+    d.solve_linear(f, group_values);
   else
-    d.solve_nonlinear(load, force, group_values);
+    d.solve_nonlinear(f, group_values);
   d.group_values = group_values;
-  d.measure_reactions(load, force);
+  d.measure_reactions(load, force, gravity);
 }
 
 const std::vector<Eigen::Vector3d>& DistributedElasticity::reactions() const { return impl_->reactions; }

@@ -6,11 +6,12 @@
 // aggregation algebraic multigrid (ML) with the six rigid-body modes as its near
 // null space. Linear elasticity (the element integrals of eq. 9, the same code as
 // the serial real-time path, elasticity_cell.h) or any hyperelastic law of the
-// table (Newton with load stepping). Besides the support, groups of nodes whose
-// displacement is prescribed each frame (a grasp, a plate: models/tool_placement.h)
-// are inhomogeneous Dirichlet constraints; the reactions on them and on the
-// support, and the field at interior points (probes), are measured. A plain
-// interface: the deal.II types stay in the .cc files.
+// table (Newton with load stepping), under point loads, tractions and a body force
+// (gravity). Besides the support, groups of nodes whose displacement is
+// prescribed each frame (a grasp, a plate: models/tool_placement.h) are
+// inhomogeneous Dirichlet constraints; the reactions on them and on the support,
+// and the field at interior points (probes), are measured. A plain interface: the
+// deal.II types stay in the .cc files.
 #pragma once
 
 #include <mpi.h>
@@ -92,15 +93,21 @@ class DistributedElasticity {
   DistributedElasticity(const DistributedElasticity&) = delete;
   DistributedElasticity& operator=(const DistributedElasticity&) = delete;
 
-  /// Solves for the load: weight_k * force at each point (surface_load.h), with
-  /// each group's held components at group_values[g] (#groups, m), the next solve
-  /// starting from this one (nonlinear laws: its increments go from the previous
-  /// load and group values to these, nonlinear_solve.cc). Collective. Throws
-  /// std::invalid_argument if group_values does not have one value per group, and
+  /// Solves for the load: weight_k * force at each point (surface_load.h), and the
+  /// body force of acceleration `gravity` (m/s^2): the force density rho g of the
+  /// material's density over the reference configuration, a dead load, whose nodal
+  /// forces are int rho g N_i dV (P1: rho g V / 4 per node of each tet, the serial
+  /// FEM's consistent masses), with each group's held components at
+  /// group_values[g] (#groups, m), the next solve starting from this one
+  /// (nonlinear laws: its increments go from the previous loads and group values
+  /// to these, as the serial newton solve's, nonlinear_solve.cc). Collective.
+  /// Throws std::invalid_argument if group_values does not have one value per
+  /// group, or a nonzero gravity meets a density that is not positive, and
   /// std::runtime_error if CG or Newton fail (the state is then that of the last
   /// converged solve).
   void solve(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-             const std::vector<Eigen::Vector3d>& group_values = {});
+             const std::vector<Eigen::Vector3d>& group_values = {},
+             const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
 
   /// Displacement at mesh nodes `nodes` (#nodes by 3), the same on every rank.
   /// Collective.
@@ -108,9 +115,10 @@ class DistributedElasticity {
 
   /// After solve(): the force the body exerts on each group (#groups) and then on
   /// the support (the dofs the support predicate holds), N, the same on every rank:
-  /// at each constrained dof, the load's share there minus the internal force (K u,
-  /// or the law's f_int(u)), summed over the group's dofs; a component a group does
-  /// not hold is 0 (ElasticBody::reactions, the serial models' measure).
+  /// at each constrained dof, the loads' share there (the body force's included)
+  /// minus the internal force (K u, or the law's f_int(u)), summed over the group's
+  /// dofs; a component a group does not hold is 0 (ElasticBody::reactions, the
+  /// serial models' measure).
   const std::vector<Eigen::Vector3d>& reactions() const;
 
   /// Fixes the points probe_displacements() reads: point p (row p of `points`,

@@ -35,6 +35,7 @@ struct DistributedElasticity::Impl {
   MPI_Comm comm;
   DistributedSettings settings;
   LameParameters lame;
+  double density;              ///< kg/m^3, of the body force rho g
   const MaterialLawInfo* law;  ///< settings.law, from the table
   Eigen::Index n_tets = 0;     ///< of the caller's TetMesh
   dealii::parallel::fullydistributed::Triangulation<3> tria;
@@ -84,6 +85,10 @@ struct DistributedElasticity::Impl {
   std::vector<double> rigid_modes;  ///< 6 columns of #owned: the near null space (must outlive amg)
   Vector u;                         ///< the solution, owned dofs
   Vector f_previous;                ///< nonlinear laws: the last converged external force
+  /// The body force's nodal forces per unit acceleration along x, y, z (rho int N_i
+  /// over the reference cells, zero on constrained dofs): built at the first solve
+  /// with a nonzero acceleration, so that a run without gravity holds none.
+  std::vector<Vector> body_unit;
   DistributedStats stats;
 
   /// f += the load's consistent nodal forces (eq. 10 with the cell's shape functions).
@@ -92,21 +97,23 @@ struct DistributedElasticity::Impl {
   /// per-cell part of add_load.
   void cell_load(const Cell& cell, const std::vector<const LoadPoint*>& points, const Eigen::Vector3d& force,
                  dealii::Vector<double>& fe_force) const;
+  /// f += the body force rho g (elasticity_cell.h's body_force_cell over the owned
+  /// cells), a dead load like the point loads. Collective.
+  void add_body_force(const Eigen::Vector3d& g, Vector& f);
   /// u with its ghost entries (locally relevant dofs).
   Vector ghosted(const Vector& owned_vector) const;
   /// Sets every owned dof a group holds in x to its group's value in `values`
   /// (zero when `values` is null); x compressed.
   void set_held(Vector& x, const std::vector<Eigen::Vector3d>* values) const;
-  /// reactions from u, the load and the law (after a solve). Collective.
-  void measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force);
+  /// reactions from u, the loads and the law (after a solve). Collective.
+  void measure_reactions(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force, const Eigen::Vector3d& g);
   /// Builds the AMG hierarchy of K with the rigid-body modes as near null space.
   void build_amg();
   /// CG on K x = b from x; returns iterations. Throws std::runtime_error on failure.
   int cg(const Vector& b, Vector& x, double tolerance);
-  void solve_linear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-                    const std::vector<Eigen::Vector3d>& values);
-  void solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-                       const std::vector<Eigen::Vector3d>& values);  // nonlinear_solve.cc
+  /// K_ff u_f = f_f - K_fp u_p; f the external force (the load and the body force).
+  void solve_linear(const Vector& f_external, const std::vector<Eigen::Vector3d>& values);
+  void solve_nonlinear(const Vector& f_external, const std::vector<Eigen::Vector3d>& values);  // nonlinear_solve.cc
 };
 
 }  // namespace tb

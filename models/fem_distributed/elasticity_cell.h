@@ -2,7 +2,8 @@
 // nonlinear_solve.cc) on cells of any degree, from the material laws of
 // models/numerics/materials: the linear law's B^T D B entry (linear_elastic.h, the
 // same coding the serial assembly uses) and, for any law of the table, the
-// internal force and tangent from P(F) and dP/dF. A deal.II header: include it
+// internal force and tangent from P(F) and dP/dF, and the consistent load of a body
+// force. A deal.II header: include it
 // only from the deal.II translation units.
 #pragma once
 
@@ -94,6 +95,24 @@ bool hyperelastic_cell(const dealii::FEValues<dim>& fe_values, const std::vector
     }
   }
   return true;
+}
+
+/// The consistent nodal forces of a uniform force density b (N/m^3: rho g) over the
+/// cell in the reference configuration (a dead load, eq. 10 with a volume integral):
+///   fe_i = sum_q b_{ci} N_i(x_q) JxW_q = int_e b_{ci} N_i dV,
+/// exact with a rule of degree >= the element's (P1: rho g V / 4 per node; P2:
+/// -rho g V / 20 per vertex, rho g V / 5 per edge midpoint).
+///   fe_values  reinit'ed on the cell, with update_values | update_JxW_values
+///   fe         #dofs_per_cell, overwritten
+template <int dim>
+void body_force_cell(const dealii::FEValues<dim>& fe_values, const std::vector<unsigned>& component,
+                     const Eigen::Vector3d& b, dealii::Vector<double>& fe) {
+  const unsigned n = fe_values.dofs_per_cell;
+  fe.reinit(n);
+  for (unsigned q = 0; q < fe_values.n_quadrature_points; ++q) {
+    const double JxW = fe_values.JxW(q);
+    for (unsigned i = 0; i < n; ++i) fe[i] += b[component[i]] * fe_values.shape_value(i, q) * JxW;
+  }
 }
 
 }  // namespace tb

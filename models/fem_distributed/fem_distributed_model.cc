@@ -47,24 +47,40 @@ class FemDistributedModel : public Model {
     std::vector<int> tets;
     for (const TetEmbedding& e : probes) tets.push_back(e.tet);
     distributed_->set_probes(p.probes, tets);
-    // The load's points, spread by the cells' shape functions of any degree.
-    if (p.load_case.loads.size() > 1)
-      throw std::invalid_argument("fem_distributed: takes at most one load; the scenario gives " +
-                                  std::to_string(p.load_case.loads.size()));
-    if (p.load_case.loads.empty()) return;
-    const Load& load = p.load_case.loads[0];
-    try {
-      load_points_ = load.kind == LoadKind::SurfaceTraction
-                         ? disc_load_points(h.fine_volume, h.fine_surface, surface_to_volume_, load.point, load.radius)
-                         : point_load_points(h.fine_volume, load.point);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("fem_distributed: " + load.key + " (" + name(load.kind) + "): " + e.what());
+    // Body forces: their accelerations add up each frame (the engine integrates
+    // rho g over the cells); the one point force or traction: its points, spread
+    // by the cells' shape functions of any degree.
+    point_load_ = -1;
+    body_loads_.clear();
+    for (size_t k = 0; k < p.load_case.loads.size(); ++k) {
+      const Load& load = p.load_case.loads[k];
+      const std::string where = "fem_distributed: " + load.key + " (" + name(load.kind) + "): ";
+      if (load.kind == LoadKind::BodyForce) {
+        if (!(p.material.density > 0)) throw std::invalid_argument(where + "a body force needs a positive density");
+        body_loads_.push_back(k);
+        continue;
+      }
+      if (point_load_ >= 0)
+        throw std::invalid_argument(where + "takes at most one point force or surface traction; " +
+                                    p.load_case.loads[static_cast<size_t>(point_load_)].key + " is one");
+      point_load_ = static_cast<int>(k);
+      try {
+        load_points_ =
+            load.kind == LoadKind::SurfaceTraction
+                ? disc_load_points(h.fine_volume, h.fine_surface, surface_to_volume_, load.point, load.radius)
+                : point_load_points(h.fine_volume, load.point);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(where + e.what());
+      }
     }
   }
 
   void step(const FrameLoads& loads) override {
-    distributed_->solve(load_points_, loads.values.empty() ? Eigen::Vector3d::Zero() : loads.values[0],
-                        loads.tool_values);
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+    for (size_t k : body_loads_) gravity += loads.values[k];
+    distributed_->solve(load_points_,
+                        point_load_ < 0 ? Eigen::Vector3d::Zero() : loads.values[static_cast<size_t>(point_load_)],
+                        loads.tool_values, gravity);
     surface_u_ = distributed_->node_displacements(surface_to_volume_);
     reactions_ = distributed_->reactions();
     probe_u_ = distributed_->probe_displacements();
@@ -99,7 +115,9 @@ class FemDistributedModel : public Model {
   std::unique_ptr<DistributedElasticity> distributed_;
   std::vector<int> surface_to_volume_;
   Displacements surface_u_;
-  std::vector<LoadPoint> load_points_;      // the load's points, weights summing to 1
+  std::vector<LoadPoint> load_points_;      // the point load's or traction's points, weights summing to 1
+  int point_load_ = -1;                     // its index in the load case, or -1: none
+  std::vector<size_t> body_loads_;          // the body forces' indices in the load case
   std::vector<Eigen::Vector3d> reactions_;  // each tool's, then the support's
   Points probe_u_;
 };
@@ -113,7 +131,7 @@ ModelInfo fem_distributed_model_info() {
   m.description =
       "FEM on the fine tet volume over MPI ranks (deal.II, Trilinos CG with ML AMG): the reference solve at any "
       "size, P1/P2, any material law of the table (linear, neo-Hookean ...), one point force or disc traction, "
-      "grasps and plates; mpirun -np N";
+      "gravity (int rho g N_i over the reference cells, a dead load), grasps and plates; mpirun -np N";
   std::vector<std::string> laws;
   std::string described =
       "the material law (numerics/materials), each with the Lame parameters of the scenario's "
@@ -129,7 +147,7 @@ ModelInfo fem_distributed_model_info() {
       P::number("cg_tolerance", 1e-10, 1e-14, 1e-2, "relative residual of each linear solve (each Newton step too)")};
   m.create = [] { return std::make_unique<FemDistributedModel>(); };
   m.spans_ranks = true;
-  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction};
+  m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
   m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
   m.tools_how =
       "the fine-volume nodes of the held surface vertices and (P2) the midside dofs of the boundary edges both of "
@@ -137,8 +155,8 @@ ModelInfo fem_distributed_model_info() {
       "holds the normal component only; nonlinear laws: each load increment's first Newton step moves the held dofs "
       "by their increment, the later steps keep them";
   m.reactions =
-      "the load's share minus the internal force (K u, or the law's f_int(u)) at the held dofs, summed per "
-      "tool and over the support";
+      "the loads' share (gravity's included) minus the internal force (K u, or the law's f_int(u)) at the held "
+      "dofs, summed per tool and over the support";
   m.probes = "the P1 or P2 field of the fine tet containing the probe, at its reference point (the owning rank's)";
   return m;
 }

@@ -1,7 +1,8 @@
 // The large-deformation reference: a hyperelastic solid of any law of the table
 // (numerics/materials: neo_hookean, neo_hookean_isochoric, stable_neo_hookean, with
 // the Lame parameters of the scenario's E and nu) under dead loads and prescribed
-// displacements (tools), solved by Newton's method with the consistent tangent,
+// displacements (tools), the body force included (a dead load: rho g over the
+// reference configuration, ramped with the other loads), solved by Newton's method with the consistent tangent,
 // load increments from the previous solve's load and tool values to this one's, a
 // backtracking line search on the residual, and increments halved when Newton
 // fails (J <= 0 somewhere, no residual decrease, or too many iterations). Each
@@ -79,11 +80,8 @@ bool assemble(Impl& d, const Impl::Vector& u, const AffineConstraints<double>& c
 
 }  // namespace
 
-void DistributedElasticity::Impl::solve_nonlinear(const std::vector<LoadPoint>& load, const Eigen::Vector3d& force,
-                                                  const std::vector<Eigen::Vector3d>& values) {
+void DistributedElasticity::Impl::solve_nonlinear(const Vector& f_new, const std::vector<Eigen::Vector3d>& values) {
   const auto start = std::chrono::steady_clock::now();
-  Vector f_new(owned, comm);
-  add_load(load, force, f_new);
   Vector f(owned, comm), f_int(owned, comm), residual(owned, comm), du(owned, comm), u_try(owned, comm);
   stats.cg_iterations = stats.newton_iterations = stats.load_increments = stats.increment_halvings = 0;
   // An increment's first step: the held dofs' constraints, inhomogeneous (set per

@@ -86,10 +86,10 @@ TEST(Tools, ReactionsBalanceTheAppliedLoadsInEveryModelThatMeasuresThem) {
   const FrameLoads frame{{{0, 0, 0.2}, {0, 0, -9.81}}, {{0, 0, 0.004}, {0, -0.002, 0}}};
   int measured = 0;
   for (const ModelInfo& info : registered_models()) {
-    // (Gravity is one of the loads: fem_distributed, which takes none, has its own
-    // balance test, tests/models/fem_distributed/distributed_tools_test.cc.)
-    if (info.reactions.empty() || !info.takes(ToolKind::Grasp) || !info.takes(ToolKind::BondedPlate) ||
-        !info.takes(LoadKind::BodyForce))
+    // (fem_distributed needs MPI: its balance under gravity and tools is tested in
+    // tests/models/fem_distributed/distributed_tools_test.cc.)
+    if (info.spans_ranks || info.reactions.empty() || !info.takes(ToolKind::Grasp) ||
+        !info.takes(ToolKind::BondedPlate) || !info.takes(LoadKind::BodyForce))
       continue;
     if (info.name == "pbd") continue;  // its damping takes a share of the load: its own test below
     // The iterative nonlinear steppers balance as far as they have converged, which
@@ -387,6 +387,7 @@ TEST(Tools, AGraspOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesOne) {
     const std::vector<int> held = tool_vertices(grasp, b.mesh->fine_surface, support);
     for (const ModelInfo& info : registered_models()) {
       if (!info.takes(ToolKind::Grasp) || !info.takes(LoadKind::BodyForce)) continue;  // gravity is the load
+      if (info.spans_ranks) continue;  // MPI: a grasp under gravity in distributed_tools_test.cc
       Problem p{b.mesh, Material{}, LoadCase{support, {Load::body_force()}, {grasp}},
                 resolve_parameters(info.parameters, {}, info.name), Points()};
       auto m = info.create();

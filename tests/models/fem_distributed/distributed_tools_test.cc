@@ -3,8 +3,9 @@
 // a homogeneous uniaxial compression between sliding faces against its closed form
 // (linear and neo-Hookean, P1 and P2, nu = 0.499), every tool kind through the
 // model against the serial fem model on the same mesh, P2 neo-Hookean against the
-// serial newton P1 under a plate as both meshes refine, the probes against nodal
-// values and an exact quadratic field, and the bad inputs. Every check is made on
+// serial newton P1 under a plate as both meshes refine, gravity with a grasp
+// against the serial newton solve, the probes against nodal values and an exact
+// quadratic field, and the bad inputs. Every check is made on
 // values that are the same on every rank.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -245,6 +246,64 @@ TEST(DistributedTools, P2NeoHookeanAndSerialNewtonP1ConvergeTogetherUnderAPlate)
   for (size_t k = 0; k < forces_p1.size(); ++k) EXPECT_GT(forces_p1[k], forces_p2[k]) << k;
 }
 
+/// (b') Gravity through the models' interface, the liver's load case
+/// (suite/liver-grasp-gravity.json) on the small cube: its weight (rho g L / E = 6 %)
+/// and a grasp lifting the top, ramped over two frames, with a point force beside
+/// (gravity is loads[0], the force loads[1]), neo-Hookean. fem_distributed (P1)
+/// against the serial newton solve (models/numerics/elasticity/newton_solve.cc,
+/// CHOLMOD) on the same mesh: both integrate rho g N_i over the rest configuration
+/// (the same consistent nodal forces) and take their load increments from the
+/// previous frame's loads and tool values to this one's, so they solve the same
+/// equations; the surface, the probes and the reactions agree to the Newton
+/// tolerances. The tool's and the support's forces balance the weight and the force.
+TEST(DistributedTools, GravityAndAGraspEqualTheSerialNewtonSolve) {
+  const HybridMesh& h = small_cube();
+  const Material material{15300, 0.45, 1000};
+  const LoadCase c{testing::kCubeBottom,
+                   {Load::body_force("loads[0]"), Load::point_force({0.01, 0.015, 0.05}, "loads[1]")},
+                   {Tool::grasp({0, 0, 0.1}, 0.02, "tools[0]")}};
+  Points probes(3, 3);
+  probes << 0, 0, 0.05, 0.02, -0.01, 0.08, -0.03, 0.03, 0.02;
+  const std::vector<FrameLoads> frames = {
+      {{Eigen::Vector3d(0, 0, -4.905), Eigen::Vector3d(0.05, 0, 0)}, {Eigen::Vector3d(0, 0, 0.0025)}},
+      {{Eigen::Vector3d(0, 0, -9.81), Eigen::Vector3d(0.1, 0, 0)}, {Eigen::Vector3d(0, 0, 0.005)}}};
+  std::unique_ptr<Model> models[2];
+  int index = 0;
+  for (const auto& [name, parameters] :
+       {std::pair<std::string, nlohmann::json>{
+            "fem", {{"solver", "newton"}, {"material_law", "neo_hookean"}, {"newton_load_steps", 2}}},
+        {"fem_distributed", {{"material_law", "neo_hookean"}, {"load_steps", 2}, {"cg_tolerance", 1e-12}}}}) {
+    const ModelInfo& info = find_model(name);
+    EXPECT_NO_THROW(check_supported(info, c)) << name;
+    Problem p{&h, material, c, resolve_parameters(info.parameters, parameters, name), probes};
+    models[index] = info.create();
+    models[index]->setup(p);
+    ++index;
+  }
+  const double weight = material.density * 9.81 * 1e-3;  // the cube's 1e-3 m^3
+  std::vector<double> differences;
+  for (const FrameLoads& frame : frames) {
+    for (auto& m : models) m->step(frame);
+    const double du = (models[1]->surface_displacement() - models[0]->surface_displacement()).norm() /
+                      models[0]->surface_displacement().norm();
+    const double dp = (*models[1]->probe_displacements() - *models[0]->probe_displacements()).norm() /
+                      models[0]->probe_displacements()->norm();
+    const std::vector<Eigen::Vector3d>& r = *models[1]->reaction_forces();
+    ASSERT_EQ(r.size(), 2u);
+    double dr = 0;
+    for (size_t k = 0; k < 2; ++k) dr = std::max(dr, (r[k] - (*models[0]->reaction_forces())[k]).norm() / weight);
+    EXPECT_LT(du, 1e-8);
+    EXPECT_LT(dp, 1e-8);
+    EXPECT_LT(dr, 1e-8);
+    // Equilibrium: the forces on the grasp and the support sum to the applied ones.
+    const Eigen::Vector3d applied = material.density * 1e-3 * frame.values[0] + frame.values[1];
+    EXPECT_LT((r[0] + r[1] - applied).norm(), 1e-8 * weight) << (r[0] + r[1]).transpose();
+    EXPECT_LT(r[0].z(), 0) << "the tissue pulls the grasp down";
+    differences.insert(differences.end(), {du, dp, dr});
+  }
+  RecordProperty("surface_probe_reaction_differences_per_frame", numbers(differences));
+}
+
 /// (c) A probe at a node reads the nodal value (P1 and P2); inside a cell it reads
 /// the field there: for P2, an exact quadratic field at arbitrary points.
 TEST(DistributedTools, ProbesReadTheNodalValuesAtNodesAndTheFieldInside) {
@@ -294,9 +353,10 @@ TEST(DistributedTools, ProbesReadTheNodalValuesAtNodesAndTheFieldInside) {
   }
 }
 
-std::string setup_error(const LoadCase& c, const nlohmann::json& parameters = nlohmann::json::object()) {
+std::string setup_error(const LoadCase& c, const nlohmann::json& parameters = nlohmann::json::object(),
+                        const Material& material = Material{}) {
   const ModelInfo& info = find_model("fem_distributed");
-  Problem p{&small_cube(), Material{}, c, resolve_parameters(info.parameters, parameters, info.name), Points()};
+  Problem p{&small_cube(), material, c, resolve_parameters(info.parameters, parameters, info.name), Points()};
   try {
     info.create()->setup(p);
   } catch (const std::invalid_argument& e) {
@@ -348,6 +408,25 @@ TEST(DistributedTools, BadToolsAndGroupsAreOneLineErrors) {
   } catch (const std::invalid_argument& error) {
     EXPECT_EQ(std::string(error.what()), "distributed FEM: 0 group values for 1 prescribed groups");
   }
+}
+
+/// (e) Bad loads: one line naming the load's key and the problem.
+TEST(DistributedTools, BadLoadsAreOneLineErrors) {
+  const nlohmann::json defaults = nlohmann::json::object();
+  EXPECT_EQ(setup_error({testing::kCubeBottom, {Load::body_force("loads[2]")}, {}}, defaults, Material{3000, 0.45, 0}),
+            "fem_distributed: loads[2] (body_force): a body force needs a positive density");
+  EXPECT_EQ(setup_error({testing::kCubeBottom,
+                         {Load::point_force({0, 0, 0.05}, "loads[0]"), Load::body_force("loads[1]"),
+                          Load::surface_traction({0, 0, 0.1}, 0.01, "loads[2]")},
+                         {}}),
+            "fem_distributed: loads[2] (surface_traction): takes at most one point force or surface traction; "
+            "loads[0] is one");
+  // Body forces add up: two and a traction are taken.
+  EXPECT_EQ(setup_error({testing::kCubeBottom,
+                         {Load::body_force("loads[0]"), Load::body_force("loads[1]"),
+                          Load::surface_traction({0, 0, 0.1}, 0.01, "loads[2]")},
+                         {}}),
+            "no error");
 }
 
 }  // namespace

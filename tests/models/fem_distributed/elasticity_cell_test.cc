@@ -1,6 +1,7 @@
 // The distributed FEM's element integrals (elasticity_cell.h), for every material
 // law of the table: the tangent is the derivative of the internal force (central
-// differences), and at zero displacement it is the linear element matrix of eq. (9).
+// differences), and at zero displacement it is the linear element matrix of eq. (9);
+// the body force's consistent load against its closed forms (P1 and P2).
 // On one P2 tet with a distorted shape, so every term is exercised. A deal.II
 // translation unit.
 #include "elasticity_cell.h"
@@ -20,19 +21,21 @@ namespace {
 
 using namespace dealii;
 
+/// One tet of degree P2 (or P1) with the engine's quadrature (degree-exact rule).
 struct OneTet {
   Triangulation<3> tria;
-  FESystem<3> fe{FE_SimplexP<3>(2), 3};
+  FESystem<3> fe;
   MappingFE<3> mapping{FE_SimplexP<3>(1)};
-  QGaussSimplex<3> quadrature{2};
+  QGaussSimplex<3> quadrature;
   std::unique_ptr<FEValues<3>> fe_values;
   std::vector<unsigned> component;
-  OneTet() {
+  explicit OneTet(unsigned degree = 2) : fe(FE_SimplexP<3>(degree), 3), quadrature(degree) {
     const std::vector<Point<3>> v = {{0, 0, 0}, {1.2, 0.1, 0}, {0.2, 0.9, 0.1}, {0.1, 0.3, 1.1}};
     std::vector<CellData<3>> cells(1, CellData<3>(4));
     for (unsigned k = 0; k < 4; ++k) cells[0].vertices[k] = k;
     tria.create_triangulation(v, cells, SubCellData());
-    fe_values = std::make_unique<FEValues<3>>(mapping, fe, quadrature, update_gradients | update_JxW_values);
+    fe_values =
+        std::make_unique<FEValues<3>>(mapping, fe, quadrature, update_values | update_gradients | update_JxW_values);
     fe_values->reinit(tria.begin_active());
     for (unsigned i = 0; i < fe.n_dofs_per_cell(); ++i) component.push_back(fe.system_to_component_index(i).first);
   }
@@ -103,6 +106,33 @@ TEST_P(EveryLaw, AnInvertedElementIsRejectedWhereTheLawIsUndefined) {
   if (accepted) {  // then finite, never NaN
     for (unsigned i = 0; i < n; ++i) EXPECT_TRUE(std::isfinite(R[i])) << i;
     EXPECT_TRUE(std::isfinite(K.frobenius_norm()));
+  }
+}
+
+/// The consistent load of a uniform body force b: int b_c N_i dV, whose closed
+/// forms on a tet of volume V are b V / 4 at each vertex (P1) and -b V / 20 at each
+/// vertex, b V / 5 at each edge midpoint (P2; Zienkiewicz and Taylor, The Finite
+/// Element Method vol. 1, 5th ed. 2000, section 8.8.2, the quadratic tetrahedron):
+/// the rule the engine uses integrates them exactly, and each component's sum is b V.
+TEST(BodyForceCell, IsTheConsistentLoadOfP1AndP2) {
+  const Eigen::Vector3d b(1.5, -2, 9.81);
+  for (unsigned degree = 1; degree <= 2; ++degree) {
+    OneTet t(degree);
+    const std::vector<Point<3>> v = {{0, 0, 0}, {1.2, 0.1, 0}, {0.2, 0.9, 0.1}, {0.1, 0.3, 1.1}};
+    const double V = std::abs((v[1] - v[0]) * cross_product_3d(v[2] - v[0], v[3] - v[0])) / 6;
+    dealii::Vector<double> f;
+    body_force_cell(*t.fe_values, t.component, b, f);
+    ASSERT_EQ(f.size(), t.fe.n_dofs_per_cell());
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (unsigned i = 0; i < f.size(); ++i) {
+      const unsigned c = t.component[i];
+      // A vertex's shape function is the first 4 per component (deal.II's dof order).
+      const bool vertex = t.fe.system_to_component_index(i).second < 4;
+      const double share = degree == 1 ? 0.25 : vertex ? -0.05 : 0.2;
+      EXPECT_NEAR(f[i], share * b[c] * V, 1e-14 * b.norm() * V) << "P" << degree << " dof " << i;
+      sum[c] += f[i];
+    }
+    EXPECT_LT((sum - b * V).norm(), 1e-14 * b.norm() * V) << "P" << degree;
   }
 }
 
