@@ -638,7 +638,10 @@ bool add_model_everywhere(Experiment& e, const std::string& model) {
 }
 
 void leave_out_scenarios(Experiment& e, const std::vector<std::string>& names) {
-  for (const std::string& name : names) {
+  std::vector<std::string> distinct;  // a name given twice is left out once
+  for (const std::string& name : names)
+    if (std::find(distinct.begin(), distinct.end(), name) == distinct.end()) distinct.push_back(name);
+  for (const std::string& name : distinct) {
     const auto found = std::find_if(e.scenarios.begin(), e.scenarios.end(), [&](const Scenario& s) { return s.name == name; });
     if (found == e.scenarios.end())
       throw ScenarioError("--skip-scenario " + name + ": no scenario of experiment '" + e.name + "' has that name");

@@ -179,6 +179,7 @@ class NewtonSolve : public ElasticSolve {
             rescued = continue_pseudo_transiently(f, trial);
           }
           if (!rescued) {
+            active_ = active_converged;  // a caller that goes on starts from the last converged set
             std::ostringstream msg;
             msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
@@ -555,7 +556,8 @@ class NewtonSolve : public ElasticSolve {
   // tangent is positive definite it is Newton's step. Converged means the static KKT
   // conditions, as Newton's: the pseudo-time term only shapes the path.
 
-  /// Pseudo-time's factor at the start (1: V doubles the tangent's diagonal); the
+  /// Pseudo-time's factor at the start (the ladder's first rung is a quarter of it:
+  /// V / 4 added to the tangent's diagonal); the
   /// smallest nonzero factor tried.
   static constexpr double kPseudoTimeStart = 1, kPseudoTimeSmallest = 1e-6;
   /// The relative KKT residual at which pseudo-time hands over to plain Newton.
@@ -567,6 +569,11 @@ class NewtonSolve : public ElasticSolve {
   /// (relative KKT residual), then plain Newton from there (quadratic near the
   /// minimum found), or, if that fails, pseudo-time down to Newton's tolerance.
   bool continue_pseudo_transiently(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
+    // Plain Newton again after it, whichever way it ends (a throw included).
+    struct PlainNewtonAfter {
+      NewtonSolve& solve;
+      ~PlainNewtonAfter() { solve.ptc_shift_ = solve.ptc_tolerance_ = 0; }
+    } plain_after{*this};
     ptc_shift_ = kPseudoTimeStart;
     ptc_tolerance_ = kPseudoTimeLoose;
     bool converged = newton(f, u);

@@ -141,6 +141,9 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     lambda_h_(p) += d_lambda(1);
     for (int a = 0; a < 4; ++a) {
       const int node = tet.nodes[static_cast<size_t>(a)];
+      // A held node is not written: the colouring keeps a colour's tets apart only
+      // through the nodes that move, so two threads may share a held one.
+      if ((inverse_mass_.col(node).array() == 0).all()) continue;
       x_.col(node) += inverse_mass_.col(node).cwiseProduct(d_lambda(0) * grad_d.col(a) + d_lambda(1) * grad_h.col(a));
     }
   }
