@@ -83,7 +83,7 @@ def reference_error_text(entry):
     if entry.get("field_error") is None:
         return entry.get("note", "not estimated")
     finest = "P%d L%d" % (entry["converged"]["order"], entry["converged"]["level"])
-    text = f"{sig(entry['field_error'])} (vs {finest})"
+    text = f"{sig(entry['field_error'])} (vs {entry.get('field_error_against') or finest})"
     beads = entry.get("qoi", {}).get("bead_rms_mm", {})
     if beads.get("finest_value") is not None:  # the Truth Cube ranks by the beads: their RMS on both
         text += f"; bead RMS {beads['value']:.2f} mm ({finest}: {beads['finest_value']:.2f})"

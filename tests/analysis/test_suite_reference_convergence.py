@@ -92,7 +92,24 @@ class SuiteReferenceConvergence(unittest.TestCase):
                 self.assertIn("| cube_pull_disc | 2 | P1 | 64000 | 1 | 7 | 0.5 | 1.0 | 1.5 | 0.10 | 1.0 / 2.0 |", f.read())
             # The leaderboard's reader takes the file as written.
             entry = leaderboard.read_reference_errors(errors_path)["cube_pull_disc"]
-            self.assertEqual(leaderboard.reference_error_text(entry), f"{rel:.3g} (vs P1 L2)")
+            self.assertEqual(leaderboard.reference_error_text(entry), f"{rel:.3g} (vs Richardson's limit of P1 L0-2)")
+
+    def test_the_declared_error_is_the_largest_change_against_any_larger_run(self):
+        # As the liver: P1 level 1 the finest (level first), P2 level 0 farther from the reference.
+        with tempfile.TemporaryDirectory() as tmp:
+            root = os.path.join(tmp, "results")
+            os.makedirs(root)
+            write_case(root, "liver_grasp_gravity", 0, 1, U_STAR * 0.9, 1000)
+            write_case(root, "liver_grasp_gravity", 1, 1, U_STAR * 0.95, 8000)
+            write_case(root, "liver_grasp_gravity", 0, 2, U_STAR * 1.2, 7000)
+            errors_path = os.path.join(tmp, "e.json")
+            decl = src.make(root, tmp, None, errors_path)["liver_grasp_gravity"]
+            self.assertEqual((decl["converged"]["order"], decl["converged"]["level"]), (1, 1))
+            self.assertAlmostEqual(decl["field_error"], 0.3 / 1.2, places=12)  # |0.9 - 1.2| / 1.2
+            self.assertEqual(decl["field_error_against"], "P2 L0")
+            self.assertIn("change against P1 L1 0.0526", decl["field_error_how"])  # 0.05 / 0.95
+            entry = leaderboard.read_reference_errors(errors_path)["liver_grasp_gravity"]
+            self.assertEqual(leaderboard.reference_error_text(entry), "0.25 (vs P2 L0)")
 
     def test_a_nearly_incompressible_scenario_takes_p2_as_finest(self):
         with tempfile.TemporaryDirectory() as tmp:
