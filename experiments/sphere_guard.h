@@ -1,0 +1,83 @@
+// The runner's per-frame guard on rigid sphere tools, the same for every model.
+//
+// Every model enforces a sphere on the surface NODES only (fem: an active set on the
+// factor, sphere_contact.h; Newton, vbd, xpbd_neo, pd: sphere_obstacles.h; pbd and
+// the hybrid: a collision projection, surface_spheres.h). A sphere moved deep in one
+// frame can pass the nodes, which then sit on its far side: every solver converges
+// with no contact and the result looks valid. After each frame, on the deformed
+// surface (rest + u, the triangles the model answers with):
+//  - the generalized winding number at the sphere's centre (Jacobson, Kavan and
+//    Sorkine-Hornung 2013: the triangles' signed solid angles, Van Oosterom and
+//    Strackee 1983, summed / 4 pi): >= 1/2 is inside the closed surface, and a centre
+//    inside the body is a sphere that has tunnelled (a pressing sphere keeps its
+//    centre about its radius outside): the case stops with a one-line error;
+//  - the deepest penetration of the surface TRIANGLES, r - min over triangles of the
+//    distance from the centre (Ericson 2005, 5.1.5), when positive: how far faces
+//    sag into the sphere between the nodes the models hold out of it.
+// docs/equations.md, "Contact with a rigid sphere: the runner's tunnelling guard".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "load_case.h"
+#include "mesh_types.h"
+
+namespace tb {
+
+/// A sphere against a closed surface.
+struct SphereAgainstSurface {
+  double winding_number = 0;    ///< at the centre: ~1 inside the surface, ~0 outside
+  double face_penetration = 0;  ///< m: radius - distance from the centre to the nearest triangle point, or 0
+};
+
+/// One pass over the triangles: the winding number at `centre` and how deep the
+/// triangles reach into the sphere (centre, radius). No allocation.
+///   V  #V by 3 positions, F  #F by 3 outward-oriented (counter-clockwise seen from
+///   outside) triangles of a closed surface
+SphereAgainstSurface sphere_against_surface(const Points& V, const Triangles& F, const Eigen::Vector3d& centre,
+                                            double radius);
+
+/// Centres whose winding number reaches this are inside the body (Jacobson et al.
+/// 2013: the winding number of a closed surface is 1 inside and 0 outside, 1/2 on it).
+inline constexpr double kInsideWindingNumber = 0.5;
+
+/// The runner's guard over a case's frames: checks each sphere of `tools` after each
+/// frame and keeps, per sphere, its deepest face penetration and the frame of it.
+/// Does nothing (and costs nothing) for a case without spheres.
+class SphereGuard {
+ public:
+  ///   surface  the rest surface (its F is kept; the reference must outlive the guard)
+  SphereGuard(const std::vector<Tool>& tools, const SurfaceMesh& surface);
+
+  bool active() const { return !spheres_.empty(); }
+
+  /// After frame `frame`: the deformed surface rest + u and each tool's value
+  /// (a sphere's centre, FrameLoads::tool_values). Throws std::runtime_error, one
+  /// line, naming the tool, the frame and the centre, when a sphere's centre is
+  /// inside the deformed surface. Allocates only on the first call.
+  ///   u  #V by 3 displacements of the surface vertices
+  void check(int frame, const Points& u, const std::vector<Eigen::Vector3d>& tool_values);
+
+  /// run.json's record: per sphere key its deepest face penetration (m) and the
+  /// frame of it, and how it is measured.
+  nlohmann::json to_json() const;
+
+ private:
+  struct Sphere {
+    size_t tool = 0;  ///< index in the LoadCase's tools
+    std::string key;
+    double radius = 0;
+    Eigen::Vector3d previous_centre = Eigen::Vector3d::Zero();  ///< for the error's "moved ... this frame"
+    double max_face_penetration = 0;
+    int max_frame = -1;  ///< the first frame of the deepest penetration (-1: no face ever inside)
+  };
+  const SurfaceMesh& rest_;
+  Points deformed_;
+  std::vector<Sphere> spheres_;
+};
+
+}  // namespace tb
