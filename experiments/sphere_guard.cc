@@ -43,10 +43,11 @@ void SphereGuard::check(int frame, const Points& u, const std::vector<Eigen::Vec
   for (Sphere& s : spheres_) {
     const Eigen::Vector3d& centre = tool_values.at(s.tool);
     const SphereAgainstSurface a = sphere_against_surface(deformed_, rest_.F, centre, s.radius);
+    const double moved = (centre - s.previous_centre).norm();
+    s.largest_move = std::max(s.largest_move, moved);
     if (a.winding_number >= kInsideWindingNumber) {
       // The nodes are held out of the sphere, never its centre: a centre inside the
       // body means the surface nodes were passed, not pressed.
-      const double moved = (centre - s.previous_centre).norm();
       std::ostringstream msg;
       msg << s.key << " (sphere) tunnelled through the surface at frame " << frame << ": its centre (" << centre.x()
           << ", " << centre.y() << ", " << centre.z() << ") is inside the deformed body (winding number "
@@ -69,9 +70,14 @@ nlohmann::json SphereGuard::to_json() const {
       "per sphere, the deepest reach of the deformed surface's triangles into it over the frames: radius minus the "
       "distance from its centre to the nearest point of any surface triangle (Ericson 2005, 5.1.5), when positive; "
       "the models hold the surface nodes out of the sphere, so this is how far faces sag into it between them. "
-      "frame: the first frame of that maximum (-1: no face reached inside)";
+      "frame: the first frame of that maximum (-1: no face reached inside). largest_move_per_frame_m: the "
+      "largest move of the centre between two frames; the guard stops a case whose sphere's centre ends a frame "
+      "inside the deformed body, and cannot see a sphere that passes through a part thinner than about that move "
+      "less its radius and leaves it within one frame (docs/equations.md)";
   for (const Sphere& s : spheres_)
-    j["tools"][s.key] = {{"max_face_penetration_m", s.max_face_penetration}, {"frame", s.max_frame}};
+    j["tools"][s.key] = {{"max_face_penetration_m", s.max_face_penetration},
+                         {"frame", s.max_frame},
+                         {"largest_move_per_frame_m", s.largest_move}};
   return j;
 }
 

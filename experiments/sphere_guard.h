@@ -62,8 +62,8 @@ class SphereGuard {
   ///   u  #V by 3 displacements of the surface vertices
   void check(int frame, const Points& u, const std::vector<Eigen::Vector3d>& tool_values);
 
-  /// run.json's record: per sphere key its deepest face penetration (m) and the
-  /// frame of it, and how it is measured.
+  /// run.json's record: per sphere key its deepest face penetration (m), the frame
+  /// of it and its largest move between two frames (m), and how they are measured.
   nlohmann::json to_json() const;
 
  private:
@@ -72,6 +72,7 @@ class SphereGuard {
     std::string key;
     double radius = 0;
     Eigen::Vector3d previous_centre = Eigen::Vector3d::Zero();  ///< for the error's "moved ... this frame"
+    double largest_move = 0;  ///< m: the largest move of the centre between two frames
     double max_face_penetration = 0;
     int max_frame = -1;  ///< the first frame of the deepest penetration (-1: no face ever inside)
   };

@@ -160,6 +160,23 @@ TEST_F(SphereGuardRuns, ASphereJumpedThroughTheTopInOneFrameStopsEachCaseWithOne
   }
 }
 
+// What the guard does not see (docs/equations.md): a sphere that crosses the whole
+// body within one frame and ends outside it. Its centre 1 cm past the cube's +x face,
+// then 1 cm past its -x face: no frame ends with the centre inside, so the case
+// passes; run.json's largest move (0.14 m against the radius 0.02 m and the cube's
+// 0.1 m) is what shows it. A swept check would turn this into an error.
+TEST_F(SphereGuardRuns, ASphereCrossingTheWholeBodyWithinOneFrameIsNotSeen) {
+  nlohmann::json j = sphere_scenario(0.02, {{0, 0.071, 0, 0.05}, {1, -0.071, 0, 0.05}});
+  j["models"] = {{{"name", "fem-direct"}, {"model", "fem"}}};
+  const auto outcomes = run_experiment(load_experiment(write("through.json", j)), options());
+  ASSERT_EQ(outcomes.size(), 1u);
+  ASSERT_TRUE(outcomes[0].ok) << outcomes[0].error;
+  const nlohmann::json run = nlohmann::json::parse(read(dir / "out" / "small" / "small" / "fem-direct" / "run.json"));
+  const nlohmann::json faces = run["observables"]["contact"]["faces"]["tools"]["tools[0]"];
+  EXPECT_NEAR(faces["largest_move_per_frame_m"].get<double>(), 0.142, 1e-12);
+  EXPECT_EQ(faces["frame"], -1);  // no face ever inside
+}
+
 TEST_F(SphereGuardRuns, ANormalPressPassesAndRecordsItsFacesSmallPenetration) {
   // Radius 3 cm touching the top at frame 0, pressed 8 mm in by frame 2 and held.
   const nlohmann::json path = {{0, 0, 0, 0.13}, {2, 0, 0, 0.122}, {4, 0, 0, 0.122}};
@@ -203,6 +220,7 @@ TEST_F(SphereGuardRuns, ANormalPressPassesAndRecordsItsFacesSmallPenetration) {
                                                 (2 * (b - a).cross(d - a).norm()));
     }
     const double r = 0.03, bound = r - std::sqrt((r - node) * (r - node) - circumradius * circumradius);
+    EXPECT_NEAR(faces["largest_move_per_frame_m"].get<double>(), 0.004, 1e-12);  // 8 mm over 2 frames
     EXPECT_GT(face, 0) << c.case_name;
     EXPECT_GE(face, node) << c.case_name;
     EXPECT_LE(face, bound) << c.case_name << ": circumradius " << circumradius;
