@@ -11,10 +11,15 @@
 //    Strackee 1983, summed / 4 pi): >= 1/2 is inside the closed surface, and a centre
 //    inside the body is a sphere that has tunnelled (a pressing sphere keeps its
 //    centre about its radius outside): the case stops with a one-line error;
+//  - a sphere that crossed the body within the frame and ended outside it: the path
+//    of its centre over the frame (a segment: the scenario's path is piecewise
+//    linear over the frames) meets the deformed surface of the frame before and of
+//    this frame; tested only when the move is longer than the centre's distance to
+//    both surfaces (shorter, it cannot reach them), so a ramped run never pays for it;
 //  - the deepest penetration of the surface TRIANGLES, r - min over triangles of the
 //    distance from the centre (Ericson 2005, 5.1.5), when positive: how far faces
 //    sag into the sphere between the nodes the models hold out of it.
-// docs/equations.md, "Contact with a rigid sphere: the runner's tunnelling guard".
+// docs/equations.md, "Contact with a rigid sphere", "The runner's tunnelling guard".
 #pragma once
 
 #include <string>
@@ -31,15 +36,21 @@ namespace tb {
 /// A sphere against a closed surface.
 struct SphereAgainstSurface {
   double winding_number = 0;    ///< at the centre: ~1 inside the surface, ~0 outside
-  double face_penetration = 0;  ///< m: radius - distance from the centre to the nearest triangle point, or 0
+  double distance = 0;          ///< m: from the centre to the nearest point of any triangle
+  double face_penetration = 0;  ///< m: radius - distance, or 0
 };
 
-/// One pass over the triangles: the winding number at `centre` and how deep the
-/// triangles reach into the sphere (centre, radius). No allocation.
+/// One pass over the triangles: the winding number at `centre`, its distance to the
+/// surface and how deep the triangles reach into the sphere (centre, radius). No
+/// allocation.
 ///   V  #V by 3 positions, F  #F by 3 outward-oriented (counter-clockwise seen from
 ///   outside) triangles of a closed surface
 SphereAgainstSurface sphere_against_surface(const Points& V, const Triangles& F, const Eigen::Vector3d& centre,
                                             double radius);
+
+/// Whether the segment from p to q meets any triangle of (V, F) (segment_meets_triangle).
+///   V  #V by 3, F  #F by 3
+bool segment_meets_surface(const Points& V, const Triangles& F, const Eigen::Vector3d& p, const Eigen::Vector3d& q);
 
 /// Centres whose winding number reaches this are inside the body (Jacobson et al.
 /// 2013: the winding number of a closed surface is 1 inside and 0 outside, 1/2 on it).
@@ -50,15 +61,16 @@ inline constexpr double kInsideWindingNumber = 0.5;
 /// Does nothing (and costs nothing) for a case without spheres.
 class SphereGuard {
  public:
-  ///   surface  the rest surface (its F is kept; the reference must outlive the guard)
+  ///   surface  the rest surface (the reference must outlive the guard)
   SphereGuard(const std::vector<Tool>& tools, const SurfaceMesh& surface);
 
   bool active() const { return !spheres_.empty(); }
 
-  /// After frame `frame`: the deformed surface rest + u and each tool's value
-  /// (a sphere's centre, FrameLoads::tool_values). Throws std::runtime_error, one
-  /// line, naming the tool, the frame and the centre, when a sphere's centre is
-  /// inside the deformed surface. Allocates only on the first call.
+  /// After frame `frame` (called for frames 0, 1, ... in order): the deformed
+  /// surface rest + u and each tool's value (a sphere's centre,
+  /// FrameLoads::tool_values). Throws std::runtime_error, one line naming the tool,
+  /// the frame and the centre, when a sphere's centre is inside the deformed surface
+  /// or its path over the frame crossed the body. Allocates only on the first call.
   ///   u  #V by 3 displacements of the surface vertices
   void check(int frame, const Points& u, const std::vector<Eigen::Vector3d>& tool_values);
 
@@ -71,13 +83,15 @@ class SphereGuard {
     size_t tool = 0;  ///< index in the LoadCase's tools
     std::string key;
     double radius = 0;
-    Eigen::Vector3d previous_centre = Eigen::Vector3d::Zero();  ///< for the error's "moved ... this frame"
-    double largest_move = 0;  ///< m: the largest move of the centre between two frames
+    Eigen::Vector3d previous_centre = Eigen::Vector3d::Zero();
+    double previous_distance = 0;  ///< m: of previous_centre to the previous surface
+    double largest_move = 0;       ///< m: the largest move of the centre between two frames
     double max_face_penetration = 0;
     int max_frame = -1;  ///< the first frame of the deepest penetration (-1: no face ever inside)
   };
   const SurfaceMesh& rest_;
-  Points deformed_;
+  Points deformed_;  ///< this frame's surface positions
+  Points previous_;  ///< the frame before's (at frame 0: the rest surface)
   std::vector<Sphere> spheres_;
 };
 

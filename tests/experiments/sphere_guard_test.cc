@@ -1,8 +1,8 @@
 // The runner's guard on rigid spheres (experiments/sphere_guard.h): the winding
-// number and the triangles' penetration against closed forms, a sphere jumped
-// through the cube in one frame stopping its cases with one line, a normal press
-// passing and recording its faces' small penetration, and a sphere in the concave
-// corner of the L-block passing.
+// number, the triangles' penetration and the segment test against closed forms; a
+// sphere jumped into the cube, or through it, in one frame stopping its cases with one
+// line; long moves onto and off the cube, a normal press and a press into the
+// L-block's concave corner passing, the press recording its faces' small penetration.
 #include "sphere_guard.h"
 
 #include <gtest/gtest.h>
@@ -108,6 +108,28 @@ TEST(SphereAgainstSurface, TheTorusHoleAndTheLBlockCornerAreOutside) {
   EXPECT_NEAR(against(l_block, {0, 0, 0.05}, 0.012).face_penetration, 0.002, 1e-12);
 }
 
+TEST(SegmentMeetsSurface, ThroughTheCubeAndTheTorusHole) {
+  const SurfaceMesh cube = unit_cube();
+  auto meets = [](const SurfaceMesh& s, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    return segment_meets_surface(s.V, s.F, p, q);
+  };
+  EXPECT_TRUE(meets(cube, {2, 0.5, 0.5}, {-1, 0.5, 0.5}));    // through two faces
+  EXPECT_TRUE(meets(cube, {0.5, 0.5, 0.5}, {0.5, 0.5, 3}));   // from inside out
+  EXPECT_TRUE(meets(cube, {0.3, 0.6, 2}, {0.3, 0.6, 0.999}));  // ends just inside
+  EXPECT_FALSE(meets(cube, {0.3, 0.6, 2}, {0.3, 0.6, 1.001}));
+  EXPECT_FALSE(meets(cube, {2, 0.5, 0.5}, {1.5, 0.5, 0.5}));
+  EXPECT_FALSE(meets(cube, {-1, 0.5, 1.2}, {2, 0.5, 1.2}));  // above the top, parallel to it
+  EXPECT_FALSE(meets(cube, {0.2, 0.3, 0.4}, {0.8, 0.7, 0.6}));  // inside throughout
+  // Through the torus's hole along its axis (y): no triangle; through its tube: some.
+  const SurfaceMesh torus = make_shape_surface({"torus", 20});
+  EXPECT_FALSE(meets(torus, {0, -0.1, 0.05}, {0, 0.1, 0.05}));
+  EXPECT_TRUE(meets(torus, {0.035, -0.1, 0.05}, {0.035, 0.1, 0.05}));
+  // Across the L-block's concave corner, outside it, and through the column.
+  const SurfaceMesh l_block = make_shape_surface({"l_block", 15});
+  EXPECT_FALSE(meets(l_block, {-0.009, 0, 0.1}, {0.05, 0, 0.041}));
+  EXPECT_TRUE(meets(l_block, {-0.06, 0, 0.07}, {0, 0, 0.07}));
+}
+
 std::string read(const std::filesystem::path& p) {
   std::ifstream in(p);
   std::stringstream s;
@@ -160,21 +182,40 @@ TEST_F(SphereGuardRuns, ASphereJumpedThroughTheTopInOneFrameStopsEachCaseWithOne
   }
 }
 
-// What the guard does not see (docs/equations.md): a sphere that crosses the whole
-// body within one frame and ends outside it. Its centre 1 cm past the cube's +x face,
-// then 1 cm past its -x face: no frame ends with the centre inside, so the case
-// passes; run.json's largest move (0.14 m against the radius 0.02 m and the cube's
-// 0.1 m) is what shows it. A swept check would turn this into an error.
-TEST_F(SphereGuardRuns, ASphereCrossingTheWholeBodyWithinOneFrameIsNotSeen) {
+// A sphere that crosses the whole body within one frame and ends outside it: its
+// centre 1 mm clear of the cube's +x face, then past its -x face. No frame ends with
+// the centre inside; the path of the frame crosses the body before and after it.
+TEST_F(SphereGuardRuns, ASphereCrossingTheWholeBodyWithinOneFrameStopsTheCase) {
   nlohmann::json j = sphere_scenario(0.02, {{0, 0.071, 0, 0.05}, {1, -0.071, 0, 0.05}});
-  j["models"] = {{{"name", "fem-direct"}, {"model", "fem"}}};
   const auto outcomes = run_experiment(load_experiment(write("through.json", j)), options());
-  ASSERT_EQ(outcomes.size(), 1u);
-  ASSERT_TRUE(outcomes[0].ok) << outcomes[0].error;
-  const nlohmann::json run = nlohmann::json::parse(read(dir / "out" / "small" / "small" / "fem-direct" / "run.json"));
-  const nlohmann::json faces = run["observables"]["contact"]["faces"]["tools"]["tools[0]"];
-  EXPECT_NEAR(faces["largest_move_per_frame_m"].get<double>(), 0.142, 1e-12);
-  EXPECT_EQ(faces["frame"], -1);  // no face ever inside
+  ASSERT_EQ(outcomes.size(), 2u);
+  for (const CaseOutcome& c : outcomes) {
+    EXPECT_FALSE(c.ok) << c.case_name;
+    EXPECT_EQ(c.error.rfind("tools[0] (sphere) passed through the body within frame 1: the path of its centre from "
+                            "(0.071, 0, 0.05) to (-0.071, 0, 0.05) crosses the deformed surface",
+                            0),
+              0u)
+        << c.case_name << ": " << c.error;
+    EXPECT_NE(c.error.find("it moved 0.142 m since the previous frame against its radius 0.02 m"), std::string::npos)
+        << c.error;
+    EXPECT_EQ(c.error.find('\n'), std::string::npos);
+  }
+}
+
+// Long moves that do not cross the body pass: the sphere brought from 8 cm above the
+// top onto it, 8 mm deep, in one frame, held, and lifted away in one frame (the swept
+// test runs: each move is longer than the centre's distance to the surface).
+TEST_F(SphereGuardRuns, LongMovesOntoTheBodyAndAwayFromItPass) {
+  const nlohmann::json path = {{0, 0, 0, 0.2}, {1, 0, 0, 0.122}, {3, 0, 0, 0.122}, {4, 0, 0, 0.2}};
+  const auto outcomes = run_experiment(load_experiment(write("long.json", sphere_scenario(0.03, path))), options());
+  ASSERT_EQ(outcomes.size(), 2u);
+  for (const CaseOutcome& c : outcomes) {
+    ASSERT_TRUE(c.ok) << c.case_name << ": " << c.error;
+    const nlohmann::json run = nlohmann::json::parse(read(dir / "out" / "small" / "small" / c.case_name / "run.json"));
+    const nlohmann::json faces = run["observables"]["contact"]["faces"]["tools"]["tools[0]"];
+    EXPECT_NEAR(faces["largest_move_per_frame_m"].get<double>(), 0.078, 1e-12);
+    EXPECT_GT(faces["max_face_penetration_m"].get<double>(), 0);  // it did press
+  }
 }
 
 TEST_F(SphereGuardRuns, ANormalPressPassesAndRecordsItsFacesSmallPenetration) {
