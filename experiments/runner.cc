@@ -360,8 +360,10 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
   if (sphere_guard.active())
-    t["sphere_guard"] = {{"how", "the runner's check of each sphere against the deformed surface after each frame "
-                                 "(winding number and face penetration, sphere_guard.h), outside the timed step"},
+    t["sphere_guard"] = {{"how",
+                          "the runner's check of each sphere against the deformed surface after each frame "
+                          "(winding number, face penetration and, after a long move, the swept path: "
+                          "sphere_guard.h), outside the timed step"},
                          {"per_frame", to_json(timing_stats(sphere_guard_ms))}};
   t["build"] = j["build"];
   if (!processes.is_null()) t["processes"] = processes;

@@ -68,8 +68,9 @@ void SphereGuard::check(int frame, const Points& u, const std::vector<Eigen::Vec
     s.largest_move = std::max(s.largest_move, moved);
     auto stop = [&](const std::string& what) {
       std::ostringstream msg;
-      msg << s.key << " (sphere) " << what << "; it moved " << moved << " m since the previous frame against its radius "
-          << s.radius << " m: ramp it over more frames (a move a frame well below its radius)";
+      msg << s.key << " (sphere) " << what << "; it moved " << moved
+          << " m since the previous frame against its radius " << s.radius
+          << " m: ramp it over more frames (a move a frame well below its radius)";
       throw std::runtime_error(msg.str());
     };
     // The nodes are held out of the sphere, never its centre: a centre inside the

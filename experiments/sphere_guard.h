@@ -22,11 +22,10 @@
 // docs/equations.md, "Contact with a rigid sphere", "The runner's tunnelling guard".
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "load_case.h"
 #include "mesh_types.h"

@@ -73,8 +73,7 @@ TEST(SphereAgainstSurface, ATriangleWithItsVerticesOnTheSphereSagsByTheChordBoun
   SurfaceMesh tri;
   tri.V.resize(3, 3);
   const double h = std::sqrt(r * r - R * R);
-  for (int i = 0; i < 3; ++i)
-    tri.V.row(i) << R * std::cos(2 * M_PI * i / 3), R * std::sin(2 * M_PI * i / 3), h;
+  for (int i = 0; i < 3; ++i) tri.V.row(i) << R * std::cos(2 * M_PI * i / 3), R * std::sin(2 * M_PI * i / 3), h;
   tri.F.resize(1, 3);
   tri.F << 0, 1, 2;
   EXPECT_NEAR(against(tri, Eigen::Vector3d::Zero(), r).face_penetration, r - h, 1e-15);
@@ -113,12 +112,12 @@ TEST(SegmentMeetsSurface, ThroughTheCubeAndTheTorusHole) {
   auto meets = [](const SurfaceMesh& s, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
     return segment_meets_surface(s.V, s.F, p, q);
   };
-  EXPECT_TRUE(meets(cube, {2, 0.5, 0.5}, {-1, 0.5, 0.5}));    // through two faces
-  EXPECT_TRUE(meets(cube, {0.5, 0.5, 0.5}, {0.5, 0.5, 3}));   // from inside out
+  EXPECT_TRUE(meets(cube, {2, 0.5, 0.5}, {-1, 0.5, 0.5}));     // through two faces
+  EXPECT_TRUE(meets(cube, {0.5, 0.5, 0.5}, {0.5, 0.5, 3}));    // from inside out
   EXPECT_TRUE(meets(cube, {0.3, 0.6, 2}, {0.3, 0.6, 0.999}));  // ends just inside
   EXPECT_FALSE(meets(cube, {0.3, 0.6, 2}, {0.3, 0.6, 1.001}));
   EXPECT_FALSE(meets(cube, {2, 0.5, 0.5}, {1.5, 0.5, 0.5}));
-  EXPECT_FALSE(meets(cube, {-1, 0.5, 1.2}, {2, 0.5, 1.2}));  // above the top, parallel to it
+  EXPECT_FALSE(meets(cube, {-1, 0.5, 1.2}, {2, 0.5, 1.2}));     // above the top, parallel to it
   EXPECT_FALSE(meets(cube, {0.2, 0.3, 0.4}, {0.8, 0.7, 0.6}));  // inside throughout
   // Through the torus's hole along its axis (y): no triangle; through its tube: some.
   const SurfaceMesh torus = make_shape_surface({"torus", 20});
@@ -160,9 +159,8 @@ class SphereGuardRuns : public Scenarios {
 TEST_F(SphereGuardRuns, ASphereJumpedThroughTheTopInOneFrameStopsEachCaseWithOneLine) {
   // Radius 2 cm, 1 mm above the top face at frame 0, its centre 3 cm below the top at
   // frame 1: the top nodes are 3 cm from it, outside it, so no model sees a contact.
-  const auto outcomes =
-      run_experiment(load_experiment(write("jump.json", sphere_scenario(0.02, {{0, 0, 0, 0.121}, {1, 0, 0, 0.07}}))),
-                     options());
+  const auto outcomes = run_experiment(
+      load_experiment(write("jump.json", sphere_scenario(0.02, {{0, 0, 0, 0.121}, {1, 0, 0, 0.07}}))), options());
   ASSERT_EQ(outcomes.size(), 2u);
   for (const CaseOutcome& c : outcomes) {
     EXPECT_FALSE(c.ok) << c.case_name;
@@ -171,8 +169,9 @@ TEST_F(SphereGuardRuns, ASphereJumpedThroughTheTopInOneFrameStopsEachCaseWithOne
                             0),
               0u)
         << c.case_name << ": " << c.error;
-    EXPECT_NE(c.error.find("it moved 0.051 m since the previous frame against its radius 0.02 m: ramp it over more frames"),
-              std::string::npos)
+    EXPECT_NE(
+        c.error.find("it moved 0.051 m since the previous frame against its radius 0.02 m: ramp it over more frames"),
+        std::string::npos)
         << c.error;
     EXPECT_EQ(c.error.find('\n'), std::string::npos);
     // No half result: the case's folder absent, its failure beside it.
@@ -257,8 +256,8 @@ TEST_F(SphereGuardRuns, ANormalPressPassesAndRecordsItsFacesSmallPenetration) {
     for (Eigen::Index t = 0; t < mesh.fine_surface.F.rows(); ++t) {
       const Eigen::Vector3d a = deformed.row(mesh.fine_surface.F(t, 0)), b = deformed.row(mesh.fine_surface.F(t, 1)),
                             d = deformed.row(mesh.fine_surface.F(t, 2));
-      circumradius = std::max(circumradius, (b - a).norm() * (d - a).norm() * (d - b).norm() /
-                                                (2 * (b - a).cross(d - a).norm()));
+      circumradius =
+          std::max(circumradius, (b - a).norm() * (d - a).norm() * (d - b).norm() / (2 * (b - a).cross(d - a).norm()));
     }
     const double r = 0.03, bound = r - std::sqrt((r - node) * (r - node) - circumradius * circumradius);
     EXPECT_NEAR(faces["largest_move_per_frame_m"].get<double>(), 0.004, 1e-12);  // 8 mm over 2 frames
@@ -279,7 +278,10 @@ TEST_F(SphereGuardRuns, ASpherePressedIntoTheLBlocksConcaveCornerPasses) {
   // The L-block's concave edge at x = -0.01, z = 0.04: a sphere of radius 1 cm from
   // 0.5 mm off both faces to 2 mm into both, over 4 frames.
   nlohmann::json j = sphere_scenario(0.01, {{0, 0.0005, 0, 0.0505}, {4, -0.002, 0, 0.048}});
-  j["mesh"] = {{"type", "shape"}, {"shape", "l_block"}, {"resolution", 8}, {"fine_tetgen", {{"max_volume", 1e-5}}},
+  j["mesh"] = {{"type", "shape"},
+               {"shape", "l_block"},
+               {"resolution", 8},
+               {"fine_tetgen", {{"max_volume", 1e-5}}},
                {"coarse_selection", {{"target_nodes", 30}}}};
   j["support"] = {{"lowest_fraction", 0.2}};
   const auto outcomes = run_experiment(load_experiment(write("corner.json", j)), options());
