@@ -159,12 +159,15 @@ class SphereGuardRuns : public Scenarios {
 TEST_F(SphereGuardRuns, ASphereJumpedThroughTheTopInOneFrameStopsEachCaseWithOneLine) {
   // Radius 2 cm, 1 mm above the top face at frame 0, its centre 3 cm below the top at
   // frame 1: the top nodes are 3 cm from it, outside it, so no model sees a contact.
-  const auto outcomes = run_experiment(
-      load_experiment(write("jump.json", sphere_scenario(0.02, {{0, 0, 0, 0.121}, {1, 0, 0, 0.07}}))), options());
+  // It is the second tool: a sphere resting clear of the +x face is the first.
+  nlohmann::json j = sphere_scenario(0.02, {{0, 0, 0, 0.121}, {1, 0, 0, 0.07}});
+  j["tools"].insert(j["tools"].begin(),
+                    nlohmann::json{{"type", "sphere"}, {"radius", 0.01}, {"path", {{0, 0.065, 0, 0.05}}}});
+  const auto outcomes = run_experiment(load_experiment(write("jump.json", j)), options());
   ASSERT_EQ(outcomes.size(), 2u);
   for (const CaseOutcome& c : outcomes) {
     EXPECT_FALSE(c.ok) << c.case_name;
-    EXPECT_EQ(c.error.rfind("tools[0] (sphere) tunnelled through the surface at frame 1: its centre (0, 0, 0.07) is "
+    EXPECT_EQ(c.error.rfind("tools[1] (sphere) tunnelled through the surface at frame 1: its centre (0, 0, 0.07) is "
                             "inside the deformed body",
                             0),
               0u)
