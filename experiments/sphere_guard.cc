@@ -66,11 +66,26 @@ void SphereGuard::check(int frame, const Points& u, const std::vector<Eigen::Vec
     const SphereAgainstSurface a = sphere_against_surface(deformed_, rest_.F, centre, s.radius);
     const double moved = (centre - s.previous_centre).norm();
     s.largest_move = std::max(s.largest_move, moved);
+    // What to do. A long move passes the nodes whatever the model: ramp it. A centre
+    // below the undeformed surface after a short move is a depth the model does not
+    // hold: one that places the surface from the rest state each frame pushes the nodes
+    // above the centre up around it however slowly it came (fem's linear solves, the
+    // hybrid), and a sphere small against the node spacing slips between the nodes
+    // (pbd on a coarse surface): press it less deep or refine the surface
+    // (docs/equations.md, "The runner's tunnelling guard").
     auto stop = [&](const std::string& what) {
       std::ostringstream msg;
       msg << s.key << " (sphere) " << what << "; it moved " << moved
-          << " m since the previous frame against its radius " << s.radius
-          << " m: ramp it over more frames (a move a frame well below its radius)";
+          << " m since the previous frame against its radius " << s.radius << " m";
+      const SphereAgainstSurface at_rest = sphere_against_surface(rest_.V, rest_.F, centre, s.radius);
+      const bool below_rest = at_rest.winding_number >= kInsideWindingNumber;
+      if (below_rest) msg << ", its centre " << at_rest.distance << " m below the undeformed surface";
+      if (moved >= kLongMoveFraction * s.radius || !below_rest)
+        msg << ": ramp it over more frames (a move a frame well below its radius)";
+      else
+        msg << ": press it less deep or refine the surface where it presses (the nodes hold it, not the faces; a "
+               "model that places the surface from the rest state each frame, fem's linear solves or the hybrid, "
+               "cannot hold a centre below the undeformed surface)";
       throw std::runtime_error(msg.str());
     };
     // The nodes are held out of the sphere, never its centre: a centre inside the

@@ -55,6 +55,12 @@ bool segment_meets_surface(const Points& V, const Triangles& F, const Eigen::Vec
 /// 2013: the winding number of a closed surface is 1 inside and 0 outside, 1/2 on it).
 inline constexpr double kInsideWindingNumber = 0.5;
 
+/// A move of the centre between two frames of at least this fraction of the radius
+/// can pass the surface nodes (a pressing sphere's centre is about its radius from
+/// them, less the faces' sag: up to half of it measured on the palpation); the
+/// error's advice then is to ramp the sphere over more frames.
+inline constexpr double kLongMoveFraction = 0.5;
+
 /// The runner's guard over a case's frames: checks each sphere of `tools` after each
 /// frame and keeps, per sphere, its deepest face penetration and the frame of it.
 /// Does nothing (and costs nothing) for a case without spheres.
