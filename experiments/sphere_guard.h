@@ -57,7 +57,7 @@ inline constexpr double kInsideWindingNumber = 0.5;
 
 /// A move of the centre between two frames of at least this fraction of the radius
 /// can pass the surface nodes (a pressing sphere's centre is about its radius from
-/// them, less the faces' sag: up to half of it measured on the palpation); the
+/// them, less the faces' sag: up to 0.56 of it measured on the palpation); the
 /// error's advice then is to ramp the sphere over more frames.
 inline constexpr double kLongMoveFraction = 0.5;
 
