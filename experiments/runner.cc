@@ -34,6 +34,7 @@
 #include "mesh_checks.h"
 #include "mesh_io.h"
 #include "resource_limits.h"
+#include "sphere_guard.h"
 #include "staged_folder.h"
 
 namespace tb {
@@ -214,6 +215,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   std::vector<std::vector<Eigen::Vector3d>> reactions;
   // Each contact tool's state, per frame (Model::tool_contacts).
   std::vector<std::vector<ToolContact>> contacts;
+  // Each sphere against the deformed surface after each frame: a tunnelled sphere
+  // stops the case, and the faces' penetration is recorded (sphere_guard.h); its
+  // cost per frame, outside the timed step, goes to timings.json.
+  SphereGuard sphere_guard(problem.load_case.tools, mesh.fine_surface);
+  std::vector<double> sphere_guard_ms;
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < budget; ++frame) {
     s.loads_at(frame, loads);
@@ -241,6 +247,11 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
             << " m (divergence_factor x bounding-box diagonal): a linear small-strain solution far "
             << "outside its range (reduce the load or stiffen the material)";
       throw std::runtime_error(msg.str());
+    }
+    if (sphere_guard.active()) {
+      const auto g = Clock::now();
+      sphere_guard.check(frame, u, loads.tool_values);
+      sphere_guard_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - g).count());
     }
     if (frame < kTrajectoryFrames)
       for (int v : tracked) trajectory.insert(trajectory.end(), {u(v, 0), u(v, 1), u(v, 2)});
@@ -316,6 +327,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
               : nlohmann::json{{"file", nullptr},
                                {"why_not", "model '" + info.name + "' does not measure reaction forces"}};
       if (model->tool_contacts()) obs["contact"] = {{"file", "contact.csv"}};
+      if (sphere_guard.active()) obs["contact"]["faces"] = sphere_guard.to_json();
     }
     if (s.probes.rows() > 0)
       obs["probes"] = model->probe_displacements()
@@ -347,6 +359,12 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
         to_json(timing_stats(std::vector<double>(ms.begin() + static_cast<long>(skip), ms.end())));
   t["step_ms_per_frame"] = step_ms;
   t["solver_iterations_per_frame"] = iterations;
+  if (sphere_guard.active())
+    t["sphere_guard"] = {{"how",
+                          "the runner's check of each sphere against the deformed surface after each frame "
+                          "(winding number, face penetration and, after a long move, the swept path: "
+                          "sphere_guard.h), outside the timed step"},
+                         {"per_frame", to_json(timing_stats(sphere_guard_ms))}};
   t["build"] = j["build"];
   if (!processes.is_null()) t["processes"] = processes;
   write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");

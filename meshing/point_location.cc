@@ -44,6 +44,25 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
   return (p - closest_point_on_triangle(p, a, b, c)).norm();
 }
 
+bool segment_meets_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  // Moeller and Trumbore 1997: solve p + t d = a + u e1 + v e2 by Cramer's rule.
+  const Eigen::Vector3d d = q - p, e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = d.cross(e2);
+  const double det = e1.dot(h);
+  // Parallel (relative to the lengths involved, so the test is scale-free).
+  if (std::abs(det) <= 1e-14 * d.norm() * e1.norm() * e2.norm()) return false;
+  const double f = 1 / det;
+  const Eigen::Vector3d s = p - a;
+  const double u = f * s.dot(h);
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d k = s.cross(e1);
+  const double v = f * d.dot(k);
+  if (v < 0 || u + v > 1) return false;
+  const double t = f * e2.dot(k);
+  return t >= 0 && t <= 1;
+}
+
 namespace {
 
 /// The tet nearest to p (lowest index on ties), with p's barycentric weights in it.

@@ -45,6 +45,13 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                const Eigen::Vector3d& c);
 
+/// Whether the segment from p to q meets triangle (a, b, c): Moeller and Trumbore
+/// (1997), the line p + t (q - p) through the triangle at barycentrics (1 - u - v, u, v),
+/// with t in [0, 1] and u, v, 1 - u - v >= 0. False for a segment parallel to the
+/// triangle's plane (then it meets no interior point transversally).
+bool segment_meets_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
 /// Generalized winding number of a closed surface at p: 1 inside, 0 outside
 /// (for an outward-oriented surface), 1/2 on it.
 /// The solid angle triangle (a, b, c) subtends at p, signed by its orientation
