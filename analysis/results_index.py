@@ -87,7 +87,11 @@ class Experiment:
             sdir = os.path.join(root, scenario)
             if not os.path.isdir(sdir):
                 continue
-            found = {c for c in os.listdir(sdir) if is_case_folder(os.path.join(sdir, c))}
+            # A case whose latest run failed keeps its earlier folder (the runner replaces a
+            # folder only on success) beside its <case>.failed.json: it counts as failed, so
+            # a result the current code no longer produces is never scored.
+            found = {c for c in os.listdir(sdir) if is_case_folder(os.path.join(sdir, c))
+                     and not os.path.isfile(os.path.join(sdir, c + ".failed.json"))}
             if not found:
                 continue
             listed = [c for c in order.get(scenario, []) if c in found]

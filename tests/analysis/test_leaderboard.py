@@ -126,6 +126,21 @@ class Leaderboard(unittest.TestCase):
             self.assertIn("| cube_pull_disc | fem (field) | embedded 0.5 |", text)
             self.assertTrue(text.startswith("intro\n") and text.endswith("rest\n"))
 
+    def test_a_case_whose_latest_run_failed_is_not_scored_on_its_earlier_folder(self):
+        # The runner replaces a case's folder only on success: a failed rerun leaves the
+        # earlier folder beside <case>.failed.json. The case counts as failed.
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp, extra_scale=0.9)
+            with open(os.path.join(exp, "pull", "mymodel.failed.json"), "w") as f:
+                json.dump({"case": "mymodel", "error": "tools[0] (sphere) tunnelled through the surface"}, f)
+            scores = leaderboard.make(exp, tmp, None)
+            self.assertNotIn("mymodel", {s["case"] for s in scores["cube_pull_disc"]})
+            self.assertIn("mymodel", {s["case"] for s in scores["torus_grasp"]})  # the other scenario's ran
+            board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
+            self.assertEqual(board["cube_pull_disc"][2:5], ["embedded 0.5", "embedded 0.5", "fem-linear 0.2"])
+            with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
+                self.assertIn("mymodel (failed: tools[0] (sphere) tunnelled through the surface)", f.read())
+
     def test_the_reference_s_estimated_error_is_carried_beside_each_scenario(self):
         with tempfile.TemporaryDirectory() as tmp:
             exp = write_suite(tmp)
