@@ -220,6 +220,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   // cost per frame, outside the timed step, goes to timings.json.
   SphereGuard sphere_guard(problem.load_case.tools, mesh.fine_surface);
   std::vector<double> sphere_guard_ms;
+  if (sphere_guard.active()) sphere_guard_ms.reserve(static_cast<size_t>(budget));
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < budget; ++frame) {
     s.loads_at(frame, loads);
