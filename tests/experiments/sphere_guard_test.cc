@@ -40,6 +40,43 @@ SphereAgainstSurface against(const SurfaceMesh& s, const Eigen::Vector3d& centre
   return sphere_against_surface(s.V, s.F, centre, radius);
 }
 
+// The path check, run directly on the unit cube with made-up surfaces: a sphere of
+// radius 0.2 starts 0.3 above the top. (a) It moves 0.35 down to z = 0.95 while the
+// top has moved 0.3 down (a press): the move is longer than the centre's distance to
+// both surfaces, so the path is tested; it crosses the surface of the frame before
+// (z = 1) but not this frame's (z = 0.7): no error. (b) It moves through the whole
+// undeformed cube to z = -0.5 in one frame: its path crosses both surfaces and its
+// centre ends outside (winding number 0): the one-line error.
+TEST(SphereGuard, ThePathCheckPassesAPressAndStopsASphereThatCrossedTheBody) {
+  const SurfaceMesh cube = unit_cube();
+  const std::vector<Tool> tools = {Tool::sphere({0.5, 0.5, 1.3}, 0.2)};
+  const Points rest_u = Points::Zero(8, 3);
+  Points pressed = Points::Zero(8, 3);
+  for (int i = 4; i < 8; ++i) pressed(i, 2) = -0.3;  // the top's four corners (z = 1) down to 0.7
+  {
+    SphereGuard guard(tools, cube);
+    guard.check(0, rest_u, {Eigen::Vector3d(0.5, 0.5, 1.3)});
+    EXPECT_NO_THROW(guard.check(1, pressed, {Eigen::Vector3d(0.5, 0.5, 0.95)}));
+    EXPECT_NEAR(guard.to_json()["tools"]["tools[0]"]["largest_move_per_frame_m"].get<double>(), 0.35, 1e-12);
+  }
+  // The segment of (a) meets the surface before and misses the pressed one: what the check tells apart.
+  SurfaceMesh top_down = cube;
+  top_down.V += pressed;
+  EXPECT_TRUE(segment_meets_surface(cube.V, cube.F, {0.5, 0.5, 1.3}, {0.5, 0.5, 0.95}));
+  EXPECT_FALSE(segment_meets_surface(top_down.V, top_down.F, {0.5, 0.5, 1.3}, {0.5, 0.5, 0.95}));
+  SphereGuard guard(tools, cube);
+  guard.check(0, rest_u, {Eigen::Vector3d(0.5, 0.5, 1.3)});
+  try {
+    guard.check(1, rest_u, {Eigen::Vector3d(0.5, 0.5, -0.5)});
+    ADD_FAILURE() << "a sphere that crossed the body in one frame was not stopped";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tools[0]"), std::string::npos) << what;
+    EXPECT_NE(what.find("frame 1"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
 TEST(SphereAgainstSurface, UnitCubeWindingNumberAndFacePenetrationAreTheClosedForms) {
   const SurfaceMesh cube = unit_cube();
   // Away from the surface the winding number of a closed surface is an integer.
