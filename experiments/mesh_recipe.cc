@@ -329,7 +329,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-4";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-5";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);

@@ -8,6 +8,7 @@
 #include "mesh_error.h"
 #include "point_location.h"
 #include "vertex_selection.h"
+#include "volume_ordering.h"
 
 namespace tb {
 namespace {
@@ -86,6 +87,10 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
     cp.coarse.weights = Eigen::Vector4d::Unit(node_slot[n]);
     h.control_points.push_back(cp);
   }
+  // After the coarse mesh, whose vertex selection follows the fine nodes' order
+  // (the paper's meshes stay as they were): the interior nodes and the tets stored
+  // along a Z curve, for the parallel sweeps (volume_ordering.h).
+  order_along_z_curve(h.fine_volume, n_surface);
   return h;
 }
 
@@ -97,6 +102,7 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
   if (fine_tetgen) {
     h.fine_volume = tetrahedralize_surface(surface, *fine_tetgen, source);
     h.fine_surface_to_volume = surface_to_volume_identity(surface);
+    order_along_z_curve(h.fine_volume, static_cast<int>(surface.V.rows()));  // volume_ordering.h
   }
   std::vector<ControlPoint> embedding(static_cast<size_t>(surface.V.rows()));
   const TetLocator locator(coarse);

@@ -20,6 +20,7 @@
 #include "pbd_solver.h"
 #include "pd_solve.h"
 #include "scenario.h"
+#include "tetgen_driver.h"
 #include "thread_team.h"
 #include "vbd_solve.h"
 #include "xpbd_tet_solve.h"
@@ -415,18 +416,34 @@ void BM_ThreadTeamBarrier(benchmark::State& state) {
       benchmark::Counter(1000, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+/// The cube_mesh(refinement) fine volume as TetGen numbers it (its Steiner points in
+/// insertion order), before the hybrid builder stores it along a Z curve
+/// (volume_ordering.h): what the builder's order is measured against. Cached.
+const TetMesh& cube_volume_in_tetgen_order(int refinement) {
+  static std::map<int, std::unique_ptr<TetMesh>> cache;
+  auto& m = cache[refinement];
+  if (!m) {
+    MeshRecipe r = scenario_recipe("cube-pull");
+    r.build.fine_tetgen.max_volume /= refinement;
+    m = std::make_unique<TetMesh>(tetrahedralize_surface(cube_mesh(refinement).fine_surface, r.build.fine_tetgen, "cube"));
+  }
+  return *m;
+}
+
 /// A frame of a real-time nonlinear stepper on the paper cube's fine volume
 /// (refinement range(1): 1 the paper's ~17 800 tets, 6 about 100 000), the 1 N pull
 /// at the top centre: range(0) 0 VBD (neo_hookean), 1 XPBD (xpbd_neo_hookean), 2 PD
 /// quasi_newton (neo_hookean) or 3 PD local_global (arap_volume), on range(2)
 /// threads, range(3) sweeps (VBD), sub-steps (XPBD) or iterations (PD, all run) a frame; time_step
 /// 0.01 s (XPBD with one sub-step: 0.001 s, the configuration whose settled error
-/// docs/realtime_nonlinear.md tables). Frames continue the same run (the
-/// transient). Wall time: the second thread works.
+/// docs/realtime_nonlinear.md tables); range(4) zorder: 1 the volume as the hybrid
+/// builder stores it (along a Z curve), 0 in TetGen's own order. Frames continue the
+/// same run (the transient). Wall time: the second thread works.
 void BM_NonlinearStepperFrame(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(1)));
-  const ElasticBody body(h.fine_volume, Material{}, kCubeBottom.select(h.fine_volume.V));
-  const BodyLoads loads(body, {containing_tet(h.fine_volume, kCubeLoad.point, "fine volume")});
+  const TetMesh& volume = state.range(4) ? h.fine_volume : cube_volume_in_tetgen_order(static_cast<int>(state.range(1)));
+  const ElasticBody body(volume, Material{}, kCubeBottom.select(volume.V));
+  const BodyLoads loads(body, {containing_tet(volume, kCubeLoad.point, "fine volume")});
   std::unique_ptr<ElasticSolve> solve;
   const int threads = static_cast<int>(state.range(2));
   const int work = static_cast<int>(state.range(3));
@@ -510,10 +527,12 @@ BENCHMARK(BM_XpbdFrame)->ArgName("hybrid")->Arg(0)->Arg(1)->UseManualTime()->Uni
 // (XPBD) against the tet count (refine 1, 2, 4, 6: the slope of cost in tets) and
 // the threads; and the default 20, which the study's error table pairs with.
 BENCHMARK(BM_NonlinearStepperFrame)
-    ->ArgNames({"xpbd", "refine", "threads", "work"})
-    ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}})
-    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}})
-    ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}})
+    // zorder 0: the same frames on TetGen's node order, against the builder's (1).
+    ->ArgNames({"xpbd", "refine", "threads", "work", "zorder"})
+    ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}, {1}})
+    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {1, 20}, {0}})
+    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}, {1}})
+    ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}, {1}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);

@@ -374,8 +374,14 @@ TEST(SphereContact, PressedThenWithdrawnReleasesInEveryModelThatTakesIt) {
     ++models;
     // The tet steppers (vbd, xpbd_neo, pd) cost tens of ms a frame on this mesh: a
     // 50 ms step settles them in 100 frames (PBD's 300 cost less than one of theirs).
+    // Not pd's contact: at 50 ms its primal-dual active set cycles from frame to frame
+    // (1 to 13 nodes, the gradient not reduced, with 10 or 40 iterations a frame,
+    // measured on the Z-ordered mesh of volume_ordering.h; on TetGen's order frame 100
+    // had happened to end in contact). At the suite's 10 ms it holds 9 nodes from
+    // frame 45 on, the set fem, vbd and xpbd_neo reach.
     const bool tet_stepper = info.name == "vbd" || info.name == "xpbd_neo" || info.name == "pd";
-    const nlohmann::json given = tet_stepper ? nlohmann::json{{"time_step", 0.05}} : nlohmann::json::object();
+    nlohmann::json given = tet_stepper ? nlohmann::json{{"time_step", 0.05}} : nlohmann::json::object();
+    if (info.name == "pd") given["time_step"] = 0.01;
     Problem p{&cube(), Material{}, LoadCase{testing::kCubeBottom, {}, {Tool::sphere(above, R, "tools[0]")}},
               resolve_parameters(info.parameters, given, info.name), Points()};
     auto m = info.create();
