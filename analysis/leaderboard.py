@@ -239,9 +239,11 @@ def pareto_front(points):
 
 
 def best_within(scores, key, budget):
-    """The most accurate case (not the reference) whose median frame fits the budget, or None."""
+    """The most accurate case (not the reference) whose median frame fits the budget, or None.
+    Cases with the same error (condensed and fem-linear give the same linear answer)
+    go to the faster one, then to the first listed."""
     fits = [s for s in scores if not s["is_reference"] and s["median_ms"] <= budget and math.isfinite(s[key])]
-    return min(fits, key=lambda s: s[key]) if fits else None
+    return min(fits, key=lambda s: (s[key], s["median_ms"])) if fits else None
 
 
 def not_run_cases(exp, scenario):

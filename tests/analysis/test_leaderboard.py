@@ -221,6 +221,15 @@ class Leaderboard(unittest.TestCase):
             with self.assertRaises(leaderboard.ResultsError):
                 leaderboard.make(exp, tmp, None, figures=False)
 
+    def test_a_tie_in_error_goes_to_the_faster_case(self):
+        def case(name, err, ms):
+            return {"case": name, "is_reference": False, "rel_l2": err, "median_ms": ms}
+        # fem-linear listed first, condensed faster with the same (linear) answer.
+        scores = [case("fem-linear", 0.244, 0.016), case("condensed", 0.244, 0.003), case("pd", 0.01, 5.0)]
+        self.assertEqual(leaderboard.best_within(scores, "rel_l2", 0.1)["case"], "condensed")
+        self.assertEqual(leaderboard.best_within(scores, "rel_l2", 16)["case"], "pd")
+        self.assertIsNone(leaderboard.best_within(scores, "rel_l2", 0.001))
+
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
         self.assertEqual([p[2] for p in front], ["d", "a", "c"])
