@@ -8,27 +8,16 @@
 namespace tb {
 namespace {
 
-/// The 21 low bits of x spread to every third bit (bit i to bit 3 i).
-uint64_t spread_bits(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
 /// Indices 0..#rows-1 of P sorted along the Z curve of P's rows, over the box
 /// [low, low + extent]^3 (ties by index).
 std::vector<int> z_curve_order(const Points& P, const Eigen::RowVector3d& low, double extent) {
   const double cells = static_cast<double>((1 << 21) - 1);
   std::vector<uint64_t> key(static_cast<size_t>(P.rows()), 0);
-  for (Eigen::Index i = 0; i < P.rows(); ++i)
-    for (int d = 0; d < 3; ++d) {
-      const double at = std::clamp((P(i, d) - low(d)) / extent, 0.0, 1.0) * cells;
-      key[static_cast<size_t>(i)] |= spread_bits(static_cast<uint64_t>(at)) << d;
-    }
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    uint32_t cell[3];
+    for (int d = 0; d < 3; ++d) cell[d] = static_cast<uint32_t>(std::clamp((P(i, d) - low(d)) / extent, 0.0, 1.0) * cells);
+    key[static_cast<size_t>(i)] = morton_key(cell[0], cell[1], cell[2]);
+  }
   std::vector<int> order(key.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
   std::sort(order.begin(), order.end(), [&key](int a, int b) {
@@ -39,6 +28,19 @@ std::vector<int> z_curve_order(const Points& P, const Eigen::RowVector3d& low, d
 }
 
 }  // namespace
+
+uint64_t morton_key(uint32_t x, uint32_t y, uint32_t z) {
+  auto spread = [](uint64_t v) {  // the 21 low bits of v to every third bit
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  return spread(x) | spread(y) << 1 | spread(z) << 2;
+}
 
 void order_along_z_curve(TetMesh& m, int fixed) {
   const Eigen::Index n = m.V.rows();

@@ -8,9 +8,15 @@
 // (docs/realtime_nonlinear.md, "Two threads and the node order").
 #pragma once
 
+#include <cstdint>
+
 #include "mesh_types.h"
 
 namespace tb {
+
+/// x, y, z (their 21 low bits) interleaved into a Z-order (Morton 1966) key: bit i of
+/// x to bit 3 i, of y to 3 i + 1, of z to 3 i + 2 (Warren and Salmon 1993, sec. 3).
+uint64_t morton_key(uint32_t x, uint32_t y, uint32_t z);
 
 /// Renumbers m's nodes from `fixed` on along a Z-order (Morton) curve of their
 /// positions, keeping nodes 0..fixed-1 where they are (the fine surface's vertices,

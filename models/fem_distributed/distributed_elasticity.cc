@@ -40,27 +40,15 @@
 #include <unordered_map>
 
 #include "distributed_elasticity_impl.h"
+#include "volume_ordering.h"
 
 namespace tb {
 using namespace dealii;
 
 namespace {
 
-/// x, y, z (21 bits each) interleaved.
-uint64_t morton_key(uint32_t x, uint32_t y, uint32_t z) {
-  auto spread = [](uint64_t v) {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-  };
-  return spread(x) | spread(y) << 1 | spread(z) << 2;
-}
-
-/// Owner rank of each tet: contiguous chunks of the tets in Morton order.
+/// Owner rank of each tet: contiguous chunks of the tets in Morton order (morton_key,
+/// volume_ordering.h).
 std::vector<unsigned> partition_tets(const TetMesh& m, unsigned parts) {
   const size_t n = static_cast<size_t>(m.T.rows());
   std::vector<unsigned> owner(n, 0);

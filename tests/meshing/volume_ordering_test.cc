@@ -96,6 +96,16 @@ TEST(VolumeOrdering, DeterministicAndIdempotent) {
   EXPECT_EQ(twice.T, once.T);
 }
 
+TEST(VolumeOrdering, MortonKeyInterleavesTheBits) {
+  EXPECT_EQ(morton_key(1, 0, 0), 1u);
+  EXPECT_EQ(morton_key(0, 1, 0), 2u);
+  EXPECT_EQ(morton_key(0, 0, 1), 4u);
+  EXPECT_EQ(morton_key(3, 0, 0), 9u);  // bits 0 and 1 of x to 0 and 3
+  EXPECT_EQ(morton_key(0x1fffff, 0, 0), 0x1249249249249249ULL);
+  EXPECT_EQ(morton_key(0x1fffff, 0x1fffff, 0x1fffff), 0x7fffffffffffffffULL);
+  EXPECT_EQ(morton_key(0x200000, 0, 0), 0u);  // only the 21 low bits count
+}
+
 TEST(VolumeOrdering, FixedCountOutsideTheMeshIsAnError) {
   TetMesh m = tetrahedralize_surface(make_cube_surface({}), {}, "cube");
   EXPECT_THROW(order_along_z_curve(m, -1), std::invalid_argument);
