@@ -163,7 +163,9 @@ class PdSolve : public TetTimeStepper<Law> {
       for (int halving = 0;; ++halving) {
         trial_ = x_ + step * direction_;
         trial_energy = evaluate(trial_, trial_gradient_, h2, quasi_newton);
-        if (!quasi_newton || sufficient_decrease(energy, trial_energy, step, slope)) break;
+        if (!quasi_newton ||
+            sufficient_decrease(energy, trial_energy, step, slope, [&] { return dot(direction_, trial_gradient_); }))
+          break;
         if (halving == kMaxHalvings) {
           ++failures_;
           if (contact) mark_contacts();
@@ -264,11 +266,38 @@ class PdSolve : public TetTimeStepper<Law> {
             normals_[a].dot(columns_[b].col(pd_contacts_[a].node));
     const Eigen::VectorXd mu = S.ldlt().solve(rhs);
     for (size_t a = 0; a < m; ++a) direction_ += mu(static_cast<Eigen::Index>(a)) * columns_[a];
+    // The step is halved until it decreases the Lagrangian L = E - mu . g (mu fixed
+    // at this step's multipliers) by Armijo's condition: d = -A^-1 grad L is a
+    // descent direction of L, and A is only an approximation of E's Hessian. Taking
+    // d whole (as before) overshot where the neo-Hookean Hessian outgrows A (a 50 ms
+    // step under the sphere: the contact set went from 1 to 13 nodes frame to frame,
+    // half the press inside the sphere at a frame's end); halved, it holds the 9
+    // nodes the static FEM finds (tests/models/contact/sphere_contact_test.cc).
+    const auto lagrangian = [&](const Eigen::Matrix3Xd& x, double e) {
+      Eigen::Vector3d n;
+      for (size_t a = 0; a < m; ++a)
+        e -= mu(static_cast<Eigen::Index>(a)) * this->spheres_->gap(x.col(pd_contacts_[a].node), pd_contacts_[a].sphere, n);
+      return e;
+    };
+    const auto lagrangian_slope = [&](const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& gradient) {
+      double slope = dot(direction_, gradient);
+      Eigen::Vector3d n;
+      for (size_t a = 0; a < m; ++a) {
+        this->spheres_->gap(x.col(pd_contacts_[a].node), pd_contacts_[a].sphere, n);
+        slope -= mu(static_cast<Eigen::Index>(a)) * n.dot(direction_.col(pd_contacts_[a].node));
+      }
+      return slope;
+    };
+    const double merit = lagrangian(x_, energy), slope = lagrangian_slope(x_, gradient_);
     double step = 1, trial_energy = 0;
     for (int halving = 0;; ++halving) {
       trial_ = x_ + step * direction_;
       trial_energy = evaluate(trial_, trial_gradient_, h2, true);
-      if (std::isfinite(trial_energy)) break;
+      if (std::isfinite(trial_energy) &&
+          (!(slope < 0) ||  // rounding at a fixed point: nothing to decrease
+           sufficient_decrease(merit, lagrangian(trial_, trial_energy), step, slope,
+                               [&] { return lagrangian_slope(trial_, trial_gradient_); })))
+        break;
       if (halving == kMaxHalvings) {
         ++failures_;
         return false;
@@ -289,14 +318,16 @@ class PdSolve : public TetTimeStepper<Law> {
   /// minimiser the decrease is below E's rounding (E sums terms far larger than
   /// their change): there, the decrease is measured by the slopes instead, a (s0 + s1) / 2
   /// (exact for a quadratic; Hager and Zhang 2005's approximate Wolfe condition),
-  /// s0 and s1 the slopes along d at x and at the trial point.
-  bool sufficient_decrease(double energy, double trial_energy, double step, double slope) const {
+  /// s0 = `slope` and s1 = trial_slope() the slopes along d at x and at the trial point.
+  template <class TrialSlope>
+  static bool sufficient_decrease(double energy, double trial_energy, double step, double slope,
+                                  const TrialSlope& trial_slope) {
     constexpr double c = 1e-4;
     if (!std::isfinite(trial_energy)) return false;  // a tet not positive under a law undefined there
     if (trial_energy <= energy + c * step * slope) return true;
     const double noise = 1e-13 * std::max(std::abs(energy), std::abs(trial_energy));
     if (!(std::abs(trial_energy - energy) <= noise)) return false;
-    return dot(direction_, trial_gradient_) <= (2 * c - 1) * slope;
+    return trial_slope() <= (2 * c - 1) * slope;
   }
 
   /// direction_ = -H grad E, H the L-BFGS inverse Hessian over the stored pairs with
