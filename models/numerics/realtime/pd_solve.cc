@@ -273,6 +273,8 @@ class PdSolve : public TetTimeStepper<Law> {
     // step under the sphere: the contact set went from 1 to 13 nodes frame to frame,
     // half the press inside the sphere at a frame's end); halved, it holds the 9
     // nodes the static FEM finds (tests/models/contact/sphere_contact_test.cc).
+    // Local-global (a PD law) takes d whole: there A majorises the energy's Hessian
+    // (Bouaziz et al. 2014), and relax() computes no energy to search with.
     const auto lagrangian = [&](const Eigen::Matrix3Xd& x, double e) {
       Eigen::Vector3d n;
       for (size_t a = 0; a < m; ++a)
@@ -288,13 +290,14 @@ class PdSolve : public TetTimeStepper<Law> {
       }
       return slope;
     };
-    const double merit = lagrangian(x_, energy), slope = lagrangian_slope(x_, gradient_);
+    const bool search = o_.mode == PdMode::QuasiNewton;
+    const double merit = search ? lagrangian(x_, energy) : 0, slope = search ? lagrangian_slope(x_, gradient_) : 0;
     double step = 1, trial_energy = 0;
     for (int halving = 0;; ++halving) {
       trial_ = x_ + step * direction_;
       trial_energy = evaluate(trial_, trial_gradient_, h2, true);
       if (std::isfinite(trial_energy) &&
-          (!(slope < 0) ||  // rounding at a fixed point: nothing to decrease
+          (!search || !(slope < 0) ||  // !(slope < 0): rounding at a fixed point
            sufficient_decrease(merit, lagrangian(trial_, trial_energy), step, slope,
                                [&] { return lagrangian_slope(trial_, trial_gradient_); })))
         break;
