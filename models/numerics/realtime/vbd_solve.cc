@@ -83,14 +83,16 @@ class VbdSolve : public TetTimeStepper<Law> {
         y_(i, v) = free_(i, v) != 0 ? y_(i, v) : this->target_(i, v);
       }
     }
-    if (keep_positive_ && !this->all_positive(x_)) {
+    bool positive = !keep_positive_ || this->all_positive(x_);
+    if (!positive) {
       // The start inverted a tet: begin from x_n, the held nodes moved in stages.
       for (Eigen::Index v = 0; v < n; ++v)
         for (int i = 0; i < 3; ++i)
           if (free_(i, v) != 0) x_(i, v) = x_n_(i, v);
+      positive = this->all_positive(x_);
     }
     stages_ = 0;
-    if (!keep_positive_ || this->all_positive(x_)) {
+    if (positive) {
       sweeps(h2);
       stages_ = 1;
     } else {
