@@ -49,7 +49,7 @@ class RealtimeNonlinearScript(unittest.TestCase):
                        300, True)
             write_case(exp, "xpbd", "xpbd_neo", {"time_step": 0.001}, 0.98 * xlaw, True, 3000, False)
             with open(os.path.join(exp, "experiment.json"), "w") as f:
-                json.dump({"name": "rt", "reference": "newton-neo",
+                json.dump({"name": "realtime_nonlinear", "reference": "newton-neo",
                            "scenarios": [{"name": "pull", "role": "cube_pull",
                                           "cases": ["newton-neo", "newton-x", "linear", "vbd", "xpbd"]}]}, f)
             realtime_nonlinear.make(exp, tmp, None)
@@ -69,7 +69,7 @@ class RealtimeNonlinearScript(unittest.TestCase):
             exp = os.path.join(tmp, "rt")
             write_case(exp, "vbd", "vbd", {}, REST, True, 10, True)
             with open(os.path.join(exp, "experiment.json"), "w") as f:
-                json.dump({"name": "rt", "reference": "newton-neo",
+                json.dump({"name": "realtime_nonlinear", "reference": "newton-neo",
                            "scenarios": [{"name": "pull", "role": "cube_pull", "cases": ["vbd"]}]}, f)
             with self.assertRaises(realtime_nonlinear.ResultsError) as e:
                 realtime_nonlinear.make(exp, tmp, None)
