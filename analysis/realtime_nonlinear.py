@@ -151,6 +151,8 @@ def make(results_dir, out, data_flag):
     present = []
     for role in ROLES:
         if role not in exp.roles or exp.roles[role][0] not in exp.scenarios:
+            if role in exp.roles:
+                print(f"realtime_nonlinear: no results for role '{role}', skipped", file=sys.stderr)
             continue
         present.append(role)
         if role == "truth_cube":

@@ -83,6 +83,7 @@ std::vector<Case> every_model() {
   cases.push_back({"hybrid", {{"constraint_solve", "xpbd"}, {"kernels", "reference"}, {"bending_angle", "signed"}}});
   cases.push_back({"pd", {{"solve", "local_global"}, {"material_law", "arap_volume"}}});
   cases.push_back({"pd", {{"threads", 2}, {"weight", "shear"}}});  // halvings in the line search
+  cases.push_back({"vbd", {{"threads", 2}}});  // the positivity check of a frame's start on the thread team
   for (const ModelInfo& m : registered_models())
     if (!reference_solve(m) && m.takes(LoadKind::SurfaceTraction) && m.takes(LoadKind::BodyForce))
       cases.push_back({m.name, nlohmann::json::object(), true});

@@ -190,7 +190,8 @@ ElasticSolveInfo corotational_solve_info() {
                       "of the corotational solver, update converged: rotation updates allowed per frame"),
       P::number(prefix + "corotational_relaxation", 0.5, 0.01, 1,
                 "of the corotational solver: u^{k+1} = u^k + w (K_R^-1 (f + c) - u^k) after each rotation update, "
-                "w = this in per_frame, and in converged for the first update (then adapted by Aitken's rule). "
+                "w = this in per_frame, and in converged for the first update (then adapted by Aitken's rule, and "
+                "back to this value whenever the rule gives w <= 0). "
                 "1 is Mueller and Gross's undamped stiffness warping, which oscillates without settling at 1 N "
                 "on the paper's cube (a static solve has no mass term)")})
               specs.push_back(std::move(s));

@@ -239,10 +239,12 @@ class PdSolve : public TetTimeStepper<Law> {
   /// One global step with the contact set's gaps linearised at x_ as constraints:
   ///   A d = -grad E + N^T mu,  N d = -g,
   /// solved by the Schur complement S = N A^-1 N^T (one solve on A's factor per
-  /// contact node), then x += d (halved only while a tet is not positive under a
-  /// law undefined there). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
-  /// KKT conditions of the step's minimiser with the spheres. False if no step keeps
-  /// the tets positive.
+  /// contact node), then x += a d, a halved from 1 while a tet is not positive under
+  /// a law undefined there and, in the quasi-Newton mode, until the Lagrangian
+  /// decreases (below). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
+  /// KKT conditions of the step's minimiser with the spheres. False (x_, the energy
+  /// and the set's multipliers left as they were, so the frame's iterations end with
+  /// the gaps the last accepted step left) if no a down to 2^-30 qualifies.
   bool constrained_step(double h2, double& energy) {
     const size_t m = pd_contacts_.size();
     global_->solve(gradient_, direction_);
@@ -317,11 +319,13 @@ class PdSolve : public TetTimeStepper<Law> {
 
   static constexpr int kMaxHalvings = 30;
 
-  /// Armijo's condition E(x + a d) <= E(x) + c a (grad E . d), c = 1e-4. Near the
-  /// minimiser the decrease is below E's rounding (E sums terms far larger than
-  /// their change): there, the decrease is measured by the slopes instead, a (s0 + s1) / 2
-  /// (exact for a quadratic; Hager and Zhang 2005's approximate Wolfe condition),
-  /// s0 = `slope` and s1 = trial_slope() the slopes along d at x and at the trial point.
+  /// Armijo's condition on a merit function phi (E for the unconstrained steps, the
+  /// Lagrangian for the contact-constrained ones): phi(x + a d) <= phi(x) + c a s0,
+  /// c = 1e-4, s0 = `slope` its slope along d at x. Near the minimiser the decrease is
+  /// below phi's rounding (phi sums terms far larger than their change): there, the
+  /// decrease is measured by the slopes instead, a (s0 + s1) / 2 (exact for a
+  /// quadratic; Hager and Zhang 2005's approximate Wolfe condition), s1 = trial_slope()
+  /// the slope at the trial point.
   template <class TrialSlope>
   static bool sufficient_decrease(double energy, double trial_energy, double step, double slope,
                                   const TrialSlope& trial_slope) {

@@ -198,10 +198,15 @@ class TetTimeStepper : public ElasticSolve {
   /// first bad tet is the lowest-numbered one whatever the team's size.
   bool all_positive(const Eigen::Matrix3Xd& x, Eigen::Index* first_bad = nullptr, double* bad_J = nullptr) {
     const Eigen::Index tets = T_.rows();
-    const auto first_not_positive = [&](Eigen::Index begin, Eigen::Index end, double& J) {
+    // J is written once, at the first bad tet: a member's slot of member_checks_
+    // shares a cache line with the other's, and a store per tet would bounce it.
+    const auto first_not_positive = [&](Eigen::Index begin, Eigen::Index end, double& J_bad) {
       for (Eigen::Index t = begin; t < end; ++t) {
-        J = deformation_gradient(t, x).determinant();
-        if (!(J > 0)) return t;
+        const double J = deformation_gradient(t, x).determinant();
+        if (!(J > 0)) {
+          J_bad = J;
+          return t;
+        }
       }
       return end;
     };
