@@ -31,11 +31,6 @@ double bounding_box_diagonal(const Points& V) {
   return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
 }
 
-double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                  const Eigen::Vector3d& d) {
-  return (b - a).dot((c - a).cross(d - a)) / 6.0;
-}
-
 double enclosed_volume(const SurfaceMesh& m) {
   double v = 0;
   for (Eigen::Index t = 0; t < m.F.rows(); ++t)

@@ -2,6 +2,7 @@
 // problem and how many elements have it.
 #pragma once
 
+#include <Eigen/Geometry>  // cross(), in the inline tet_volume
 #include <string>
 
 #include "mesh_types.h"
@@ -32,9 +33,12 @@ int orient_and_check_tets(const std::string& file, TetMesh& mesh, FlatTets flat 
 
 /// Signed volume enclosed by a closed, outward-oriented surface (divergence theorem).
 double enclosed_volume(const SurfaceMesh& mesh);
-/// Signed volume of one tet: det[b-a, c-a, d-a] / 6.
-double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                  const Eigen::Vector3d& d);
+/// Signed volume of one tet: det[b-a, c-a, d-a] / 6. Inline: the real-time steppers
+/// call it per tet each frame (tet_time_stepping.h, all_positive).
+inline double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& d) {
+  return (b - a).dot((c - a).cross(d - a)) / 6.0;
+}
 /// Sum of tet volumes.
 double total_volume(const TetMesh& mesh);
 /// Smallest of the six dihedral angles of tet (a, b, c, d), in degrees (0 if flat).

@@ -36,6 +36,7 @@
 #include "elastic_solve.h"
 #include "lame_parameters.h"
 #include "material_law_visit.h"
+#include "mesh_checks.h"
 #include "tet_element.h"
 #include "thread_team.h"
 
@@ -96,7 +97,7 @@ class TetTimeStepper : public ElasticSolve {
     shapes_.reserve(static_cast<size_t>(T_.rows()));
     for (Eigen::Index t = 0; t < T_.rows(); ++t) {
       shapes_.push_back(tet_shape(m.V.row(T_(t, 0)), m.V.row(T_(t, 1)), m.V.row(T_(t, 2)), m.V.row(T_(t, 3))));
-      rest_edge_det_inverse_.push_back(1 / edge_determinant(t, X_));
+      rest_volume_inverse_.push_back(1 / signed_volume(t, X_));
       // Row-sum lumping of P1's consistent mass: a quarter of the tet's to each node.
       for (int a = 0; a < 4; ++a) mass_(T_(t, a)) += body.material().density * shapes_.back().volume / 4;
     }
@@ -193,15 +194,14 @@ class TetTimeStepper : public ElasticSolve {
                  x.col(T_(t, 3)));
   }
 
-  /// det [x1 - x0, x2 - x0, x3 - x0] of tet t's corners in x.
-  double edge_determinant(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
-    const Eigen::Vector3d x0 = x.col(T_(t, 0));
-    return (x.col(T_(t, 1)) - x0).dot((x.col(T_(t, 2)) - x0).cross(x.col(T_(t, 3)) - x0));
+  /// Signed volume of tet t with its corners at x (mesh_checks.h).
+  double signed_volume(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
+    return tet_volume(x.col(T_(t, 0)), x.col(T_(t, 1)), x.col(T_(t, 2)), x.col(T_(t, 3)));
   }
 
   /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that
-  /// does not. det F = det(D_s) / det(D_m), the edge matrices at x and at rest (F =
-  /// D_s D_m^-1), which costs a third of forming F. On the thread team each member
+  /// does not. det F = det(D_s) / det(D_m) (F = D_s D_m^-1, the edge matrices at x and
+  /// at rest), the ratio of the signed volumes: a third of the cost of forming F. On the thread team each member
   /// checks a contiguous range of the tets (a VBD frame of one sweep spent a tenth of
   /// its time here on one thread); the first bad tet is the lowest-numbered one
   /// whatever the team's size.
@@ -211,7 +211,7 @@ class TetTimeStepper : public ElasticSolve {
     // shares a cache line with the other's, and a store per tet would bounce it.
     const auto first_not_positive = [&](Eigen::Index begin, Eigen::Index end, double& J_bad) {
       for (Eigen::Index t = begin; t < end; ++t) {
-        const double J = edge_determinant(t, x) * rest_edge_det_inverse_[static_cast<size_t>(t)];
+        const double J = signed_volume(t, x) * rest_volume_inverse_[static_cast<size_t>(t)];
         if (!(J > 0)) {
           J_bad = J;
           return t;
@@ -427,7 +427,7 @@ class TetTimeStepper : public ElasticSolve {
     double J = 0;          ///< its det F
   };
   std::vector<MemberCheck> member_checks_;  ///< all_positive's per-member results
-  std::vector<double> rest_edge_det_inverse_;  ///< per tet, 1 / det D_m (all_positive)
+  std::vector<double> rest_volume_inverse_;  ///< per tet, 1 / its signed rest volume (all_positive)
   std::vector<int> surface_vertex_;     ///< per node, its surface vertex or -1 (contact only)
   std::vector<char> touching_;          ///< per (node, sphere): the last constraint step acted on it
   VertexTets around_contact_;           ///< the tets around each node (the contact forces' f_int)
