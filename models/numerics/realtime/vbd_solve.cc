@@ -1,8 +1,8 @@
 #include "vbd_solve.h"
 
-#include <Eigen/Cholesky>
 #include <array>
 
+#include "cholesky3.h"
 #include "node_terms.h"
 #include <sstream>
 #include <stdexcept>
@@ -205,11 +205,11 @@ class VbdSolve : public TetTimeStepper<Law> {
         H(i, i) = 1;
         gradient(i) = 0;
       }
-    const Eigen::LLT<Eigen::Matrix3d> llt(H);
-    if (llt.info() != Eigen::Success) return;  // not a descent direction: the vertex waits this sweep
-    Eigen::Vector3d dx = -llt.solve(gradient);
+    const Cholesky3 cholesky(H);
+    if (!cholesky.ok()) return;  // not a descent direction: the vertex waits this sweep
+    Eigen::Vector3d dx = -cholesky.solve(gradient);
     if (!dx.allFinite()) return;
-    if (this->contact_on() && this->surface_vertex(v) >= 0) constrain_to_spheres(v, llt, dx);
+    if (this->contact_on() && this->surface_vertex(v) >= 0) constrain_to_spheres(v, cholesky, dx);
     for (int halving = 0; halving < 10; ++halving) {
       if (!keep_positive_ ||
           (cached ? positive_after(det_change, count, dx) : positive_around(visits, count, from + dx))) {
@@ -228,13 +228,13 @@ class VbdSolve : public TetTimeStepper<Law> {
   /// vertex (n the normal there, held components left out). A fixed point of the
   /// sweeps (dx = 0 everywhere) then has g = 0 and grad = mu n at each contact: the
   /// KKT conditions of the step's minimiser with the spheres.
-  void constrain_to_spheres(int v, const Eigen::LLT<Eigen::Matrix3d>& llt, Eigen::Vector3d& dx) {
+  void constrain_to_spheres(int v, const Cholesky3& cholesky, Eigen::Vector3d& dx) {
     for (int k = 0; k < this->spheres_->spheres(); ++k) {
       Eigen::Vector3d n;
       const double g = this->spheres_->gap(x_.col(v), k, n);
       n = n.cwiseProduct(free_.col(v));
       const double predicted = g + n.dot(dx);
-      const Eigen::Vector3d Hn = llt.solve(n);
+      const Eigen::Vector3d Hn = cholesky.solve(n);
       const double nHn = n.dot(Hn);
       const bool on = predicted < 0 && nHn > 0;
       this->mark_contact(v, k, on);
