@@ -1,5 +1,7 @@
 #include "pd_solve.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -251,7 +253,12 @@ class PdSolve : public TetTimeStepper<Law> {
     direction_ = -direction_;
     while (columns_.size() < m) columns_.emplace_back(Eigen::Matrix3Xd::Zero(3, x_.cols()));
     normals_.resize(m);
-    Eigen::VectorXd rhs(static_cast<Eigen::Index>(m));
+    // The Schur system's storage is kept: a frame whose contact set has the size of
+    // the last one's allocates nothing (Eigen reallocates only on a change of size).
+    const auto M = static_cast<Eigen::Index>(m);
+    schur_.resize(M, M);
+    schur_rhs_.resize(M);
+    schur_mu_.resize(M);
     for (size_t a = 0; a < m; ++a) {
       const PdContact& c = pd_contacts_[a];
       const double g = this->spheres_->gap(x_.col(c.node), c.sphere, normals_[a]);
@@ -259,14 +266,15 @@ class PdSolve : public TetTimeStepper<Law> {
       q_.setZero();
       q_.col(c.node) = normals_[a];
       global_->solve(q_, columns_[a]);
-      rhs(static_cast<Eigen::Index>(a)) = -g - normals_[a].dot(direction_.col(c.node));
+      schur_rhs_(static_cast<Eigen::Index>(a)) = -g - normals_[a].dot(direction_.col(c.node));
     }
-    Eigen::MatrixXd S(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
     for (size_t a = 0; a < m; ++a)
       for (size_t b = 0; b < m; ++b)
-        S(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
+        schur_(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
             normals_[a].dot(columns_[b].col(pd_contacts_[a].node));
-    const Eigen::VectorXd mu = S.ldlt().solve(rhs);
+    schur_factor_.compute(schur_);
+    schur_mu_ = schur_factor_.solve(schur_rhs_);
+    const Eigen::VectorXd& mu = schur_mu_;
     for (size_t a = 0; a < m; ++a) direction_ += mu(static_cast<Eigen::Index>(a)) * columns_[a];
     // The step is halved until it decreases the Lagrangian L = E - mu . g (mu fixed
     // at this step's multipliers) by Armijo's condition: d = -A^-1 grad L is a
@@ -428,6 +436,9 @@ class PdSolve : public TetTimeStepper<Law> {
   std::vector<PdContact> pd_contacts_;            ///< the contact set, kept from frame to frame
   std::vector<Eigen::Matrix3Xd> columns_;         ///< A^-1 N^T, one per contact (grown, never shrunk)
   std::vector<Eigen::Vector3d> normals_;
+  Eigen::MatrixXd schur_;                         ///< S = N A^-1 N^T of the contact set
+  Eigen::LDLT<Eigen::MatrixXd> schur_factor_;
+  Eigen::VectorXd schur_rhs_, schur_mu_;          ///< S's right-hand side; the multipliers mu
   std::vector<double> rho_, alpha_;
   int pairs_ = 0, newest_ = -1;
   int done_ = 0;
