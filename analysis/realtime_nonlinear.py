@@ -12,8 +12,9 @@ the runner's steady-state test and after how many frames (and how much simulated
 time); its per-frame median and p95; and, on the Truth Cube, its RMS bead error.
 Writes results/tables/<experiment>.{md,csv} and results/figures/<experiment>.png
 (error against frame time, one panel per scenario), <experiment> the experiment's
-name: realtime_nonlinear, or realtime_nonlinear_100k (the same at 105 193 tets,
-experiments/realtime_nonlinear_100k.json).
+name: realtime_nonlinear, realtime_nonlinear_100k (the same at 105 193 tets,
+experiments/realtime_nonlinear_100k.json) or realtime_nonlinear_2ms (the paper cube's
+cases that fit 2 ms, experiments/realtime_nonlinear_2ms.json).
 """
 import argparse
 import os
