@@ -109,11 +109,14 @@ INSTANTIATE_TEST_SUITE_P(Models, AllocationFreeFrame, ::testing::ValuesIn(every_
 /// the contact set holds: in every dynamic model that takes a sphere. Not the static
 /// FEM's: its active-set solve (models/numerics/contact/sphere_contact.cc) builds its
 /// candidates' vectors and Schur complement per iteration (measured: 910 allocations
-/// in 10 held frames of the linear `fem`), as Newton's contact does. Projective dynamics keeps its Schur complement (contact set by contact
-/// set) between frames, so a frame whose set has the last one's size allocates
-/// nothing and one whose set changed size does (counted here: the set's size is
-/// checked constant over the counted frames). The tet steppers take 50 ms steps,
-/// after which PD's set has settled by frame 30 (sphere_contact_test.cc).
+/// in 10 held frames of the linear `fem`), as Newton's contact does. Projective
+/// dynamics keeps its Schur complement's storage from one constrained step to the
+/// next, so a step whose contact set has the last step's size allocates nothing and
+/// one whose set changed size does; the counted frames (41-50) come after its set has
+/// settled (9 nodes from frame 30 at 50 ms steps: sphere_contact_test.cc), and the
+/// nodes in contact at each frame's end are checked unchanged over them (a change of
+/// the set within a frame would show in the count). The tet steppers take 50 ms
+/// steps; tested on this cube with one sphere only.
 TEST(AllocationFreeContactFrame, AHeldSphereAllocatesNothingOnceTheContactSetHolds) {
   const double R = 0.03;
   const Eigen::Vector3d above(0, 0, 0.1 + R), pressed(0, 0, 0.1 + R - 0.01);

@@ -2,8 +2,9 @@
 // Newton step of Vertex Block Descent (vbd_solve.cc), which factors one per vertex
 // visit. Eigen's LLT<Matrix3d> runs its general loop for a fixed size; written out,
 // the factor and its two triangular solves are straight-line code with one
-// reciprocal per pivot. Same contract: it fails where a pivot is not positive (the
-// matrix is not positive definite, or has a NaN), and reads the lower triangle only.
+// reciprocal per pivot. It fails where a pivot is not positive (the matrix is not
+// positive definite), as Eigen's LLT does, and also where a pivot is NaN (which
+// Eigen's passes on into a NaN solution); it reads the lower triangle only.
 #pragma once
 
 #include <Eigen/Core>
