@@ -27,6 +27,8 @@ class DirectSolve : public ElasticSolve {
     body_.to_full(x_, u);
   }
 
+  void solve_columns(const Eigen::MatrixXd& f_free, Eigen::MatrixXd& u_free) override { cholesky_.solve(f_free, u_free); }
+
   nlohmann::json report() const override {
     return {{"solve", "direct"}, {"factor_nonzeros", cholesky_.factor_nonzeros()}, {"ordering", cholesky_.ordering()}};
   }

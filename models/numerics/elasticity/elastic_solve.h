@@ -46,6 +46,13 @@ class ElasticSolve {
   /// then the response to a prescribed group's unit translation is precomputed
   /// (ElasticFrame) instead of lifted into every frame's right-hand side.
   virtual bool factorised() const { return false; }
+  /// For a factorised() strategy: U_free = K_ff^-1 F_free for many right-hand sides
+  /// at once (#free dofs by k each), faster per column than solve() (a
+  /// precomputation of thousands of responses). Others: std::logic_error.
+  virtual void solve_columns(const Eigen::MatrixXd& f_free, Eigen::MatrixXd& u_free) {
+    (void)f_free, (void)u_free;
+    throw std::logic_error("solve_columns: only a factorised elastic solve");
+  }
   /// A nonlinear strategy's internal force f_int(u) at the last solution (3 #V),
   /// from which reactions are f - f_int; null for a linear one (then K u).
   virtual const Eigen::VectorXd* internal_force() const { return nullptr; }

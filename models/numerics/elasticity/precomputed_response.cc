@@ -1,5 +1,6 @@
 #include "precomputed_response.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace tb {
@@ -42,28 +43,42 @@ void PrecomputedResponse::store(Response& into, int c) const {
 }
 
 void PrecomputedResponse::precompute(const std::vector<int>& loaded_nodes) {
-  for (int node : loaded_nodes) {
+  for (int node : loaded_nodes)
     if (node < 0 || node >= body_.mesh().V.rows())
       throw std::invalid_argument("precomputed response: loaded node out of range");
-    if (slot_[static_cast<size_t>(node)] >= 0) continue;
-    Response block = zero_response();
-    std::vector<int> rows;  // the node's free dofs: the unit force's nonzero rows
-    for (int c = 0; c < 3; ++c)
-      if (body_.free_index(3 * node + c) >= 0) rows.push_back(body_.free_index(3 * node + c));
-    for (int c = 0; c < 3; ++c) {
-      const int free = body_.free_index(3 * node + c);
-      u_.setZero(body_.dofs());
-      if (free >= 0) {  // on a clamped or held dof the force moves nothing: it is that dof's reaction
-        f_.setZero(body_.free_dofs());
-        f_(free) = 1;
-        direct_->solve(f_, &rows, u_);
+  std::vector<int> todo;  // the nodes not yet computed, each once, in the order given
+  for (int node : loaded_nodes) {
+    if (slot_[static_cast<size_t>(node)] != -1) continue;
+    slot_[static_cast<size_t>(node)] = -2;  // queued: its slot is set once its columns are stored
+    todo.push_back(node);
+  }
+  // The unit forces of kBlockNodes nodes solved together (solve_columns reads the
+  // factor once for all of them), then each column's outputs and reactions stored.
+  constexpr size_t kBlockNodes = 32;
+  Eigen::MatrixXd F, U;
+  for (size_t begin = 0; begin < todo.size(); begin += kBlockNodes) {
+    const size_t end = std::min(todo.size(), begin + kBlockNodes);
+    F.setZero(body_.free_dofs(), static_cast<Eigen::Index>(3 * (end - begin)));
+    for (size_t k = begin; k < end; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const int free = body_.free_index(3 * todo[k] + c);
+        if (free >= 0) F(free, static_cast<Eigen::Index>(3 * (k - begin)) + c) = 1;
       }
-      f_full_.setZero(body_.dofs());
-      f_full_(3 * node + c) = 1;
-      store(block, c);
+    direct_->solve_columns(F, U);
+    for (size_t k = begin; k < end; ++k) {
+      const int node = todo[k];
+      Response block = zero_response();
+      for (int c = 0; c < 3; ++c) {
+        // On a clamped or held dof the force moves nothing: it is that dof's reaction.
+        u_.setZero(body_.dofs());
+        if (body_.free_index(3 * node + c) >= 0) body_.to_full(U.col(static_cast<Eigen::Index>(3 * (k - begin)) + c), u_);
+        f_full_.setZero(body_.dofs());
+        f_full_(3 * node + c) = 1;
+        store(block, c);
+      }
+      slot_[static_cast<size_t>(node)] = static_cast<int>(columns_.size());
+      columns_.push_back(std::move(block));
     }
-    slot_[static_cast<size_t>(node)] = static_cast<int>(columns_.size());
-    columns_.push_back(std::move(block));
   }
 }
 

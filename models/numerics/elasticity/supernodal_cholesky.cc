@@ -12,6 +12,11 @@ void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n,
             double* x, const int* incx);
 void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a, const int* lda,
             const double* x, const int* incx, const double* beta, double* y, const int* incy);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
+            const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
+            const int* ldc);
 }
 
 namespace tb {
@@ -147,6 +152,45 @@ void SupernodalCholesky::solve(const Eigen::VectorXd& b, const SparseRhs& rhs, E
   for (size_t i = 0; i < w_.size(); ++i) w_[i] = b(perm[i]);
   for (int s : rhs.supernodes) forward_supernode(s);  // the other supernodes see zeros only
   backward_substitution_and_unpermute(x);
+}
+
+void SupernodalCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  const int n = static_cast<int>(c_->L->n), k = static_cast<int>(B.cols());
+  if (B.rows() != n) throw std::invalid_argument("SupernodalCholesky::solve: right-hand sides of the wrong length");
+  X.resize(n, k);
+  if (k == 0) return;
+  const int *super = c_->super(), *pi = c_->pi(), *perm = c_->perm();
+  Eigen::MatrixXd W(n, k);  // P B, then the solution in the permuted order
+  for (int j = 0; j < k; ++j)  // column by column: the matrices are column-major
+    for (int i = 0; i < n; ++i) W(i, j) = B(perm[i], j);
+  Eigen::MatrixXd G(static_cast<Eigen::Index>(gathered_.size()), k);  // a supernode's rows below, all columns
+  const int ldw = n, ldg = static_cast<int>(G.rows());
+  const double one = 1, zero = 0, minus_one = -1;
+  const int ns = static_cast<int>(parent_.size());
+  for (int s = 0; s < ns; ++s) {  // L W = P B: W1 = L11^-1 W1, W2 -= L21 W1
+    const int first = super[s], cols = super[s + 1] - first, nrows = pi[s + 1] - pi[s], below = nrows - cols;
+    const double* block = c_->values() + c_->px()[s];
+    dtrsm_("L", "L", "N", "N", &cols, &k, &one, block, &nrows, W.data() + first, &ldw);
+    if (below == 0) continue;
+    dgemm_("N", "N", &below, &k, &cols, &one, block + cols, &nrows, W.data() + first, &ldw, &zero, G.data(), &ldg);
+    const int* below_rows = c_->rows() + pi[s] + cols;
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < below; ++i) W(below_rows[i], j) -= G(i, j);
+  }
+  for (int s = ns - 1; s >= 0; --s) {  // L^T W = W: W1 -= L21^T W2, W1 = L11^-T W1
+    const int first = super[s], cols = super[s + 1] - first, nrows = pi[s + 1] - pi[s], below = nrows - cols;
+    const double* block = c_->values() + c_->px()[s];
+    if (below > 0) {
+      const int* below_rows = c_->rows() + pi[s] + cols;
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i < below; ++i) G(i, j) = W(below_rows[i], j);
+      dgemm_("T", "N", &cols, &k, &below, &minus_one, block + cols, &nrows, G.data(), &ldg, &one, W.data() + first,
+             &ldw);
+    }
+    dtrsm_("L", "L", "T", "N", &cols, &k, &one, block, &nrows, W.data() + first, &ldw);
+  }
+  for (int j = 0; j < k; ++j)  // X = P^T W
+    for (int i = 0; i < n; ++i) X(perm[i], j) = W(i, j);
 }
 
 double SupernodalCholesky::factor_nonzeros() const { return c_->common.lnz; }

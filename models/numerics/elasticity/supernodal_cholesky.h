@@ -38,6 +38,12 @@ class SupernodalCholesky {
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   /// The same for a b that is zero outside rhs.rows (checked: std::logic_error).
   void solve(const Eigen::VectorXd& b, const SparseRhs& rhs, Eigen::VectorXd& x);
+  /// X = K^-1 B for many right-hand sides at once (B's columns), X resized to B's
+  /// shape: the same supernodal substitutions with dtrsm and dgemm in place of
+  /// dtrsv and dgemv, so the factor is read once per call instead of once per
+  /// column (a vector solve is memory-bound). Equal to column-by-column solves up
+  /// to the BLAS's summation order. Allocates its workspace: a set-up call.
+  void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
 
   /// Nonzeros of the factor L, and CHOLMOD's name of the ordering it chose.
   double factor_nonzeros() const;

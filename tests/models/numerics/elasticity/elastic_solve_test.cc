@@ -226,6 +226,29 @@ TEST(SupernodalCholesky, SolvesAndTheSparseRightHandSideSolveIsTheFullOne) {
   EXPECT_THROW(cholesky.solve(b, rhs, sparse), std::logic_error);
 }
 
+TEST(SupernodalCholesky, ManyRightHandSidesAtOnceAreTheVectorSolves) {
+  const Eigen::SparseMatrix<double> A = grid_laplacian(12);
+  SupernodalCholesky cholesky(A);
+  // Unit columns (a precomputation's) and a dense one, 7 in all: each column of the
+  // blocked solve is the vector solve's up to the BLAS's summation order.
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(A.rows(), 7), X;
+  for (int j = 0; j < 6; ++j) B(250 * j + 3, j) = 1;
+  B.col(6) = Eigen::VectorXd::LinSpaced(A.rows(), -1, 2);
+  cholesky.solve(B, X);
+  ASSERT_EQ(X.rows(), A.rows());
+  ASSERT_EQ(X.cols(), 7);
+  Eigen::VectorXd x(A.rows());
+  for (int j = 0; j < 7; ++j) {
+    cholesky.solve(Eigen::VectorXd(B.col(j)), x);
+    EXPECT_LT((X.col(j) - x).norm(), 1e-13 * x.norm()) << "column " << j;
+    EXPECT_LT((A * X.col(j) - B.col(j)).norm(), 1e-12 * B.col(j).norm()) << "column " << j;
+  }
+  // No column: an empty answer; columns of the wrong length: refused.
+  cholesky.solve(Eigen::MatrixXd(A.rows(), 0), X);
+  EXPECT_EQ(X.cols(), 0);
+  EXPECT_THROW(cholesky.solve(Eigen::MatrixXd::Zero(A.rows() - 1, 2), X), std::invalid_argument);
+}
+
 TEST(SupernodalCholesky, NotPositiveDefiniteIsAnError) {
   Eigen::SparseMatrix<double> A = grid_laplacian(4);
   A.coeffRef(10, 10) = -1;
