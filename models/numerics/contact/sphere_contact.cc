@@ -33,24 +33,51 @@ void SphereContact::build_flexibility() {
   G_.resize(3 * n, 3 * n);
   f_free_ = Eigen::VectorXd::Zero(body_.free_dofs());
   column_ = Eigen::VectorXd::Zero(body_.dofs());
-  std::vector<int> row(1);
-  for (int j = 0; j < n; ++j)
-    for (int a = 0; a < 3; ++a) {
-      const int f = body_.free_index(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(j)])] + a);
-      if (f < 0) {  // a held component (a sliding plate's): fixed by its group, no flexibility
-        G_.col(3 * j + a).setZero();
-        continue;
+  // Candidate j's dof a as a free dof, or -1 where a group holds it (a sliding
+  // plate's component: fixed by its group, no flexibility).
+  const auto free_dof = [&](int j, int a) {
+    return body_.free_index(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(j)])] + a);
+  };
+  if (solve_.factorised()) {
+    // The unit forces kBlock at a time, each block one back-substitution of many
+    // right-hand sides (solve_columns: the factor read once per block).
+    constexpr int kBlock = 96;
+    Eigen::MatrixXd F, U;
+    for (int begin = 0; begin < 3 * n; begin += kBlock) {
+      const int width = std::min(kBlock, 3 * n - begin);
+      F.setZero(body_.free_dofs(), width);
+      for (int j = begin; j < begin + width; ++j)
+        if (free_dof(j / 3, j % 3) >= 0) F(free_dof(j / 3, j % 3), j - begin) = 1;
+      solve_.solve_columns(F, U);
+      for (int j = begin; j < begin + width; ++j) {
+        const bool free_column = free_dof(j / 3, j % 3) >= 0;
+        flexibility_solves_ += free_column;
+        for (int i = 0; i < 3 * n; ++i) {
+          const int f = free_dof(i / 3, i % 3);
+          G_(i, j) = free_column && f >= 0 ? U(f, j - begin) : 0;
+        }
       }
-      f_free_(f) = 1;
-      row[0] = f;
-      column_.setZero();
-      solve_.solve(f_free_, &row, column_);
-      f_free_(f) = 0;
-      ++flexibility_solves_;
-      for (int i = 0; i < n; ++i)
-        G_.block<3, 1>(3 * i, 3 * j + a) =
-            column_.segment<3>(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(i)])]);
     }
+  } else {
+    std::vector<int> row(1);
+    for (int j = 0; j < n; ++j)
+      for (int a = 0; a < 3; ++a) {
+        const int f = free_dof(j, a);
+        if (f < 0) {
+          G_.col(3 * j + a).setZero();
+          continue;
+        }
+        f_free_(f) = 1;
+        row[0] = f;
+        column_.setZero();
+        solve_.solve(f_free_, &row, column_);
+        f_free_(f) = 0;
+        ++flexibility_solves_;
+        for (int i = 0; i < n; ++i)
+          G_.block<3, 1>(3 * i, 3 * j + a) =
+              column_.segment<3>(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(i)])]);
+      }
+  }
   G_ = 0.5 * (G_ + G_.transpose()).eval();  // symmetric up to the solve's rounding
 }
 

@@ -225,13 +225,20 @@ Indentation newton_indent(const Level& level, double d, double nu, const std::st
   return out;
 }
 
-Indentation indent(const Level& level, double d, double nu) {
+/// The linear active-set indentation; `solver` "direct" (the flexibility G in blocks
+/// of right-hand sides, solve_columns) or "iterative" (G column by column, CG).
+Indentation indent(const Level& level, double d, double nu, const std::string& solver = "direct") {
   const double R = 1, L = level.L, E = 1;
   const HybridMesh h = quarter_block(level.h0, level.core, level.q, L);
   const Points& X = h.fine_volume.V;
   const auto start = std::chrono::steady_clock::now();
   const ElasticBody body = quarter_body(h, nu);
-  std::unique_ptr<ElasticSolve> solve = make_direct_solve(body);
+  std::unique_ptr<ElasticSolve> solve =
+      solver == "direct" ? make_direct_solve(body)
+                         : make_elastic_solve(body,
+                                              resolve_parameters(elastic_solve_parameters("", solver, "ic"),
+                                                                 {{"preconditioner", "ic"}, {"cg_tolerance", 1e-13}}, "test"),
+                                              "");
   SphereContact contact(body, *solve, h.fine_surface_to_volume);
   contact.set_candidate_margin(kMargin, kDepthFactor);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(body.dofs());
@@ -287,6 +294,21 @@ TEST(SphereContact, HertzIndentationForceConvergesUnderRefinement) {
   EXPECT_LT(fine.force, coarse.force) << "the error falls with refinement";
   // Equilibrium: the sphere's reaction and the support's (and the symmetry planes') sum to zero.
   EXPECT_LT((fine.sphere + fine.support).norm(), 1e-9 * fine.sphere.norm());
+}
+
+/// The flexibility G built in blocks of right-hand sides (the direct solve's
+/// solve_columns) and column by column (CG): the same contact, the symmetry planes'
+/// held components included, to the CG's tolerance.
+TEST(SphereContact, BlockedAndColumnByColumnFlexibilityGiveTheSameContact) {
+  const double d = 0.04, a = std::sqrt(d);
+  const Level level{a / 2, 1.25 * a, 1.5, 5};  // a small mesh: CG on every column is slow
+  const Indentation blocked = indent(level, d, 0.3, "direct");
+  const Indentation columns = indent(level, d, 0.3, "iterative");
+  ASSERT_GT(blocked.solves, 3) << "several unit forces";
+  EXPECT_EQ(blocked.solves, columns.solves);
+  EXPECT_EQ(blocked.contacts, columns.contacts);
+  EXPECT_LT((blocked.u - columns.u).norm(), 1e-8 * blocked.u.norm());
+  EXPECT_LT(std::abs(blocked.force - columns.force), 1e-8 * blocked.force);
 }
 
 /// The indentation at the mesh levels of TB_HERTZ_LEVELS ("n,core,q,L;..." : smallest
