@@ -408,13 +408,17 @@ def write(everything, exp, missing, tables):
 def provenance(cases):
     """Machine, build and commit of the cases ({role/case: case}, table_io.machine_note); when
     they differ (law cases run alone, --with), each with the cases it ran."""
+    threads = "threads as each case's parameters say"
+    busy_clause = " On a busy machine"  # machine_note's sentence naming the busy cases, given once for all
     groups = {}
     for key, case in cases.items():
-        note = machine_note({key: case}, "threads as each case's parameters say")
+        note = machine_note({key: case}, threads).split(busy_clause)[0]
         groups.setdefault(note, []).append(key.split("/", 1)[1])
     if len(groups) == 1:
-        return next(iter(groups))
-    return " ".join(f"{note[:-1]} ({', '.join(dict.fromkeys(names))})." for note, names in groups.items())
+        return machine_note(cases, threads)
+    whole = machine_note(cases, threads)
+    busy = busy_clause + whole.split(busy_clause, 1)[1] if busy_clause in whole else ""
+    return " ".join(f"{note[:-1]} ({', '.join(dict.fromkeys(names))})." for note, names in groups.items()) + busy
 
 
 def main():

@@ -176,12 +176,17 @@ class LawSensitivity(unittest.TestCase):
             path = os.path.join(alone, "pull", "reference-isochoric", "run.json")
             with open(path) as f:
                 run = json.load(f)
-            run["build"] = dict(run["build"], git_commit="def")  # built later than the others
+            run["build"] = dict(run["build"], git_commit="def", hardware_threads=2)  # built later than the others
             with open(path, "w") as f:
                 json.dump(run, f)
+            with open(os.path.join(os.path.dirname(path), "timings.json"), "w") as f:  # and run beside other work
+                json.dump({"load_average_1min": {"at_setup": 3.5}}, f)
             out = law_sensitivity.make(committed, tmp, write_bead_table(tmp), with_results=alone)
             with open(os.path.join(tmp, "tables", "law_sensitivity.md")) as f:
-                self.assertIn("commit def; threads as each case's parameters say (reference-isochoric).", f.read())
+                text = f.read()
+            self.assertIn("commit def; threads as each case's parameters say (reference-isochoric).", text)
+            self.assertEqual(text.count("On a busy machine"), 1, "the busy cases are named once, not per commit")
+            self.assertIn("cube_pull_disc/reference-isochoric (load 3.5).", text)
             field = out["cube_pull_disc"]["values"]["surface field"]
             self.assertAlmostEqual(field["isochoric vs linear"], 0.25)  # the committed fem-linear
             self.assertEqual(field["models n"], 4)
