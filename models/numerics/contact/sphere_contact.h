@@ -80,7 +80,8 @@ class SphereContact {
   std::vector<std::pair<int, Eigen::Vector3d>> node_forces_;
   Eigen::VectorXd f_free_, w_, column_;
   double margin_ = 0.1, depth_factor_ = 2;
-  int iterations_ = 0, max_iterations_seen_ = 0, candidate_count_max_ = 0, flexibility_solves_ = 0;
+  int iterations_ = 0, max_iterations_seen_ = 0, candidate_count_max_ = 0;
+  int flexibility_solves_ = 0;  ///< unit-force columns of G computed (solved together in blocks when factorised)
   /// G for the candidate list (3 solves per candidate).
   void build_flexibility();
 };

@@ -46,10 +46,13 @@ void PrecomputedResponse::precompute(const std::vector<int>& loaded_nodes) {
   for (int node : loaded_nodes)
     if (node < 0 || node >= body_.mesh().V.rows())
       throw std::invalid_argument("precomputed response: loaded node out of range");
-  std::vector<int> todo;  // the nodes not yet computed, each once, in the order given
+  // The nodes not yet computed, each once, in the order given (slot_ is set only
+  // once a node's columns are stored, so a throw below leaves the rest to a retry).
+  std::vector<int> todo;
+  std::vector<char> queued(slot_.size(), 0);
   for (int node : loaded_nodes) {
-    if (slot_[static_cast<size_t>(node)] != -1) continue;
-    slot_[static_cast<size_t>(node)] = -2;  // queued: its slot is set once its columns are stored
+    if (slot_[static_cast<size_t>(node)] >= 0 || queued[static_cast<size_t>(node)]) continue;
+    queued[static_cast<size_t>(node)] = 1;
     todo.push_back(node);
   }
   // The unit forces of kBlockNodes nodes solved together (solve_columns reads the

@@ -1,7 +1,8 @@
 // Precomputed elementary responses of a linear-elastic body (Cotin, Delingette and
 // Ayache 1999; the condensation of Bro-Nielsen and Cotin 1996): the displacement of
-// chosen output nodes under a unit force in x, y and z at a loaded node, one
-// back-substitution of the factor made once per column. Linear elasticity
+// chosen output nodes under a unit force in x, y and z at a loaded node, from the
+// factor made once (the columns of 32 nodes solved together: one forward and one
+// backward substitution of 96 right-hand sides, SupernodalCholesky's matrix solve). Linear elasticity
 // superposes, so any point load is then a weighted sum of columns: exact, and a
 // few thousand multiply-adds per frame. A load spread over many nodes (a disc
 // traction, gravity) gets three columns of its own instead: the outputs'
