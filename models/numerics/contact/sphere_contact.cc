@@ -33,11 +33,12 @@ void SphereContact::build_flexibility() {
   G_.resize(3 * n, 3 * n);
   f_free_ = Eigen::VectorXd::Zero(body_.free_dofs());
   column_ = Eigen::VectorXd::Zero(body_.dofs());
-  // Candidate j's dof a as a free dof, or -1 where a group holds it (a sliding
-  // plate's component: fixed by its group, no flexibility).
-  const auto free_dof = [&](int j, int a) {
-    return body_.free_index(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(j)])] + a);
-  };
+  // G's row/column 3 j + a (candidate j's dof a) as a free dof, or -1 where a group
+  // holds it (a sliding plate's component: fixed by its group, no flexibility).
+  std::vector<int> free_dof(static_cast<size_t>(3 * n));
+  for (int j = 0; j < 3 * n; ++j)
+    free_dof[static_cast<size_t>(j)] =
+        body_.free_index(3 * surface_nodes_[static_cast<size_t>(candidates_[static_cast<size_t>(j / 3)])] + j % 3);
   if (solve_.factorised()) {
     // The unit forces kBlock at a time, each block one back-substitution of many
     // right-hand sides (solve_columns: the factor read once per block).
@@ -47,13 +48,13 @@ void SphereContact::build_flexibility() {
       const int width = std::min(kBlock, 3 * n - begin);
       F.setZero(body_.free_dofs(), width);
       for (int j = begin; j < begin + width; ++j)
-        if (free_dof(j / 3, j % 3) >= 0) F(free_dof(j / 3, j % 3), j - begin) = 1;
+        if (free_dof[static_cast<size_t>(j)] >= 0) F(free_dof[static_cast<size_t>(j)], j - begin) = 1;
       solve_.solve_columns(F, U);
       for (int j = begin; j < begin + width; ++j) {
-        const bool free_column = free_dof(j / 3, j % 3) >= 0;
+        const bool free_column = free_dof[static_cast<size_t>(j)] >= 0;
         flexibility_solves_ += free_column;
         for (int i = 0; i < 3 * n; ++i) {
-          const int f = free_dof(i / 3, i % 3);
+          const int f = free_dof[static_cast<size_t>(i)];
           G_(i, j) = free_column && f >= 0 ? U(f, j - begin) : 0;
         }
       }
@@ -62,7 +63,7 @@ void SphereContact::build_flexibility() {
     std::vector<int> row(1);
     for (int j = 0; j < n; ++j)
       for (int a = 0; a < 3; ++a) {
-        const int f = free_dof(j, a);
+        const int f = free_dof[static_cast<size_t>(3 * j + a)];
         if (f < 0) {
           G_.col(3 * j + a).setZero();
           continue;

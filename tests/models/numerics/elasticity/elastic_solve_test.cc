@@ -249,6 +249,22 @@ TEST(SupernodalCholesky, ManyRightHandSidesAtOnceAreTheVectorSolves) {
   EXPECT_THROW(cholesky.solve(Eigen::MatrixXd::Zero(A.rows() - 1, 2), X), std::invalid_argument);
 }
 
+TEST(SolveColumns, OnlyAFactorisedSolveTakesManyRightHandSides) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  SupportBox bottom{{-1, -1, -1e-9}, {1, 1, 1e-9}};
+  const ElasticBody body(h.fine_volume, Material{}, bottom.select(h.fine_volume.V));
+  const Parameters p = resolve_parameters(elastic_solve_parameters("", "iterative", "ic"), {{"preconditioner", "ic"}}, "test");
+  std::unique_ptr<ElasticSolve> cg = make_elastic_solve(body, p, "");
+  ASSERT_FALSE(cg->factorised());
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(body.free_dofs(), 2), U;
+  try {
+    cg->solve_columns(F, U);
+    FAIL() << "an iterative solve took many right-hand sides";
+  } catch (const std::logic_error& e) {
+    EXPECT_STREQ(e.what(), "solve_columns: only a factorised elastic solve");
+  }
+}
+
 TEST(SupernodalCholesky, NotPositiveDefiniteIsAnError) {
   Eigen::SparseMatrix<double> A = grid_laplacian(4);
   A.coeffRef(10, 10) = -1;
