@@ -155,15 +155,24 @@ void SupernodalCholesky::solve(const Eigen::VectorXd& b, const SparseRhs& rhs, E
 }
 
 void SupernodalCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
-  const int n = static_cast<int>(c_->L->n), k = static_cast<int>(B.cols());
-  if (B.rows() != n) throw std::invalid_argument("SupernodalCholesky::solve: right-hand sides of the wrong length");
-  X.resize(n, k);
-  if (k == 0) return;
+  if (B.rows() != rows()) throw std::invalid_argument("SupernodalCholesky::solve: right-hand sides of the wrong length");
+  X.resize(B.rows(), B.cols());
+  BlockWorkspace workspace;
+  solve(B.data(), X.data(), static_cast<int>(B.cols()), workspace);
+}
+
+void SupernodalCholesky::solve(const double* B, double* X, int k, BlockWorkspace& workspace) const {
+  const int n = static_cast<int>(c_->L->n);
+  if (k <= 0) return;
+  const size_t nk = static_cast<size_t>(n) * static_cast<size_t>(k), gk = gathered_.size() * static_cast<size_t>(k);
+  // Grown, never shrunk: std::vector keeps its capacity, so a k seen before allocates nothing.
+  if (workspace.permuted.size() < nk) workspace.permuted.resize(nk);
+  if (workspace.gathered.size() < gk) workspace.gathered.resize(gk);
+  Eigen::Map<Eigen::MatrixXd> W(workspace.permuted.data(), n, k);  // P B, then the solution in the permuted order
+  Eigen::Map<Eigen::MatrixXd> G(workspace.gathered.data(), static_cast<Eigen::Index>(gathered_.size()), k);
   const int *super = c_->super(), *pi = c_->pi(), *perm = c_->perm();
-  Eigen::MatrixXd W(n, k);  // P B, then the solution in the permuted order
   for (int j = 0; j < k; ++j)  // column by column: the matrices are column-major
-    for (int i = 0; i < n; ++i) W(i, j) = B(perm[i], j);
-  Eigen::MatrixXd G(static_cast<Eigen::Index>(gathered_.size()), k);  // a supernode's rows below, all columns
+    for (int i = 0; i < n; ++i) W(i, j) = B[static_cast<size_t>(j) * n + static_cast<size_t>(perm[i])];
   const int ldw = n, ldg = static_cast<int>(G.rows());
   const double one = 1, zero = 0, minus_one = -1;
   const int ns = static_cast<int>(parent_.size());
@@ -190,7 +199,7 @@ void SupernodalCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) con
     dtrsm_("L", "L", "T", "N", &cols, &k, &one, block, &nrows, W.data() + first, &ldw);
   }
   for (int j = 0; j < k; ++j)  // X = P^T W
-    for (int i = 0; i < n; ++i) X(perm[i], j) = W(i, j);
+    for (int i = 0; i < n; ++i) X[static_cast<size_t>(j) * n + static_cast<size_t>(perm[i])] = W(i, j);
 }
 
 double SupernodalCholesky::factor_nonzeros() const { return c_->common.lnz; }

@@ -11,6 +11,7 @@
 // is high; on the cube METIS gives 2.8M nonzeros in L against AMD's 3.6M).
 #pragma once
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
 #include <vector>
@@ -44,6 +45,14 @@ class SupernodalCholesky {
   /// column (a vector solve is memory-bound). Equal to column-by-column solves up
   /// to the BLAS's summation order. Allocates its workspace: a set-up call.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
+  /// The same inside a frame: B and X column-major, #rows by k, in caller-kept
+  /// storage (X must not overlap B), and the workspace grown to the largest k it has
+  /// seen and then reused, so a k seen before allocates nothing.
+  struct BlockWorkspace {
+    std::vector<double> permuted, gathered;
+  };
+  void solve(const double* B, double* X, int k, BlockWorkspace& workspace) const;
+  int rows() const { return static_cast<int>(w_.size()); }
 
   /// Nonzeros of the factor L, and CHOLMOD's name of the ordering it chose.
   double factor_nonzeros() const;

@@ -1,6 +1,8 @@
 #include "pd_global_matrix.h"
 
 #include <Eigen/SparseCore>
+#include <algorithm>
+#include <cstddef>
 #include <utility>
 
 namespace tb {
@@ -36,6 +38,7 @@ PdGlobalMatrix::PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>&
     A.makeCompressed();
     Block block;
     block.nodes = std::move(nodes);
+    block.row_of = std::move(row);
     block.cholesky = std::make_unique<SupernodalCholesky>(A);
     block.b = Eigen::VectorXd::Zero(A.rows());
     block.x = Eigen::VectorXd::Zero(A.rows());
@@ -54,6 +57,57 @@ void PdGlobalMatrix::solve(const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& z) {
     for (size_t k = 0; k < block.nodes.size(); ++k) block.b(static_cast<Eigen::Index>(k)) = q(c, block.nodes[k]);
     block.cholesky->solve(block.b, block.x);
     for (size_t k = 0; k < block.nodes.size(); ++k) z(c, block.nodes[k]) = block.x(static_cast<Eigen::Index>(k));
+  }
+}
+
+void PdGlobalMatrix::node_constraints(const std::vector<int>& nodes, const std::vector<Eigen::Vector3d>& directions,
+                                      Eigen::MatrixXd& schur) {
+  const size_t m = nodes.size();
+  constraint_nodes_.assign(nodes.begin(), nodes.end());
+  constraint_directions_.assign(directions.begin(), directions.end());
+  const auto M = static_cast<Eigen::Index>(m);
+  schur.resize(M, M);
+  schur.setZero();
+  if (m == 0) return;
+  for (Block& block : blocks_) {
+    const size_t rows = block.nodes.size();
+    if (block.units.size() < rows * m) {
+      block.units.resize(rows * m);
+      block.responses.resize(rows * m);
+    }
+    std::fill(block.units.begin(), block.units.begin() + static_cast<std::ptrdiff_t>(rows * m), 0.0);
+    for (size_t a = 0; a < m; ++a) {
+      const int row = block.row_of[static_cast<size_t>(nodes[a])];
+      if (row >= 0) block.units[a * rows + static_cast<size_t>(row)] = 1;
+    }
+    block.cholesky->solve(block.units.data(), block.responses.data(), static_cast<int>(m), block.workspace);
+  }
+  // S(a, b) = n_a . (A^-1 N^T)_b at node a = sum_c n_a,c n_b,c [A_c^-1](node a, node b).
+  for (int c = 0; c < 3; ++c) {
+    if (block_of_[c] < 0) continue;
+    const Block& block = blocks_[static_cast<size_t>(block_of_[c])];
+    const size_t rows = block.nodes.size();
+    for (size_t a = 0; a < m; ++a) {
+      const int row = block.row_of[static_cast<size_t>(nodes[a])];
+      if (row < 0 || directions[a](c) == 0) continue;
+      for (size_t b = 0; b < m; ++b)
+        schur(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
+            directions[a](c) * directions[b](c) * block.responses[b * rows + static_cast<size_t>(row)];
+    }
+  }
+}
+
+void PdGlobalMatrix::add_constraint_response(const Eigen::VectorXd& mu, Eigen::Matrix3Xd& z) {
+  const auto m = static_cast<Eigen::Index>(constraint_nodes_.size());
+  if (m == 0) return;
+  if (weights_.size() != m) weights_.resize(m);
+  for (int c = 0; c < 3; ++c) {
+    if (block_of_[c] < 0) continue;
+    Block& block = blocks_[static_cast<size_t>(block_of_[c])];
+    const auto rows = static_cast<Eigen::Index>(block.nodes.size());
+    for (Eigen::Index a = 0; a < m; ++a) weights_(a) = mu(a) * constraint_directions_[static_cast<size_t>(a)](c);
+    block.x.noalias() = Eigen::Map<const Eigen::MatrixXd>(block.responses.data(), rows, m) * weights_;
+    for (Eigen::Index k = 0; k < rows; ++k) z(c, block.nodes[static_cast<size_t>(k)]) += block.x(k);
   }
 }
 

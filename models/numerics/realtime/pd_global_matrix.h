@@ -31,6 +31,18 @@ class PdGlobalMatrix {
   /// is not read there). No heap allocation.
   void solve(const Eigen::Matrix3Xd& q, Eigen::Matrix3Xd& z);
 
+  /// Constraints that each act on one node along a direction (row a of N is
+  /// directions[a]^T at node nodes[a]; a direction must be zero in the node's held
+  /// components): their responses A^-1 N^T, by one multi-right-hand-side solve per
+  /// block on the unit vectors of the nodes (A acts on the coordinates alike, so a
+  /// constraint costs one scalar column per block, not three vector solves), and
+  /// schur = N A^-1 N^T (m by m). No heap allocation once the storage has grown to m
+  /// constraints (and schur has its size).
+  void node_constraints(const std::vector<int>& nodes, const std::vector<Eigen::Vector3d>& directions,
+                        Eigen::MatrixXd& schur);
+  /// z += A^-1 N^T mu for the constraints of the last node_constraints call.
+  void add_constraint_response(const Eigen::VectorXd& mu, Eigen::Matrix3Xd& z);
+
   /// Distinct factorisations (1 to 3) and their nonzeros, summed.
   int factors() const { return static_cast<int>(blocks_.size()); }
   double factor_nonzeros() const;
@@ -39,8 +51,16 @@ class PdGlobalMatrix {
   struct Block {
     std::vector<int> nodes;  ///< the free nodes of its coordinates, increasing (row k: nodes[k])
     std::unique_ptr<SupernodalCholesky> cholesky;
+    std::vector<int> row_of;  ///< per node, its row (-1: not free here)
     Eigen::VectorXd b, x;
+    // node_constraints: the unit right-hand sides and their responses, rows by m,
+    // column-major; grown, never shrunk.
+    std::vector<double> units, responses;
+    SupernodalCholesky::BlockWorkspace workspace;
   };
+  std::vector<int> constraint_nodes_;
+  std::vector<Eigen::Vector3d> constraint_directions_;
+  Eigen::VectorXd weights_;  ///< mu_a times a direction's component
   std::vector<Block> blocks_;
   int block_of_[3] = {-1, -1, -1};  ///< per coordinate, its block (-1: no free node)
 };

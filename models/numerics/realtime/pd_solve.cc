@@ -240,8 +240,8 @@ class PdSolve : public TetTimeStepper<Law> {
 
   /// One global step with the contact set's gaps linearised at x_ as constraints:
   ///   A d = -grad E + N^T mu,  N d = -g,
-  /// solved by the Schur complement S = N A^-1 N^T (one solve on A's factor per
-  /// contact node), then x += a d, a halved from 1 while a tet is not positive under
+  /// solved by the Schur complement S = N A^-1 N^T (A^-1 N^T by one
+  /// multi-right-hand-side solve on A's factor: pd_global_matrix.h), then x += a d, a halved from 1 while a tet is not positive under
   /// a law undefined there and, in the quasi-Newton mode, until the Lagrangian
   /// decreases (below). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
   /// KKT conditions of the step's minimiser with the spheres. False (x_, the energy
@@ -251,31 +251,25 @@ class PdSolve : public TetTimeStepper<Law> {
     const size_t m = pd_contacts_.size();
     global_->solve(gradient_, direction_);
     direction_ = -direction_;
-    while (columns_.size() < m) columns_.emplace_back(Eigen::Matrix3Xd::Zero(3, x_.cols()));
-    normals_.resize(m);
     // The Schur system's storage is kept: a frame whose contact set has the size of
     // the last one's allocates nothing (Eigen reallocates only on a change of size).
     const auto M = static_cast<Eigen::Index>(m);
-    schur_.resize(M, M);
+    contact_nodes_.resize(m);
+    normals_.resize(m);
     schur_rhs_.resize(M);
     schur_mu_.resize(M);
     for (size_t a = 0; a < m; ++a) {
       const PdContact& c = pd_contacts_[a];
       const double g = this->spheres_->gap(x_.col(c.node), c.sphere, normals_[a]);
       normals_[a] = normals_[a].cwiseProduct(free_.col(c.node));
-      q_.setZero();
-      q_.col(c.node) = normals_[a];
-      global_->solve(q_, columns_[a]);
+      contact_nodes_[a] = c.node;
       schur_rhs_(static_cast<Eigen::Index>(a)) = -g - normals_[a].dot(direction_.col(c.node));
     }
-    for (size_t a = 0; a < m; ++a)
-      for (size_t b = 0; b < m; ++b)
-        schur_(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
-            normals_[a].dot(columns_[b].col(pd_contacts_[a].node));
+    global_->node_constraints(contact_nodes_, normals_, schur_);
     schur_factor_.compute(schur_);
     schur_mu_ = schur_factor_.solve(schur_rhs_);
     const Eigen::VectorXd& mu = schur_mu_;
-    for (size_t a = 0; a < m; ++a) direction_ += mu(static_cast<Eigen::Index>(a)) * columns_[a];
+    global_->add_constraint_response(mu, direction_);
     // The step is halved until it decreases the Lagrangian L = E - mu . g (mu fixed
     // at this step's multipliers) by Armijo's condition: d = -A^-1 grad L is a
     // descent direction of L, and A is only an approximation of E's Hessian. Taking
@@ -434,8 +428,8 @@ class PdSolve : public TetTimeStepper<Law> {
   Eigen::Matrix3Xd y_, gradient_, trial_gradient_, trial_, direction_, q_;
   std::vector<Eigen::Matrix3Xd> s_pairs_, t_pairs_;  ///< L-BFGS pairs (ring of `history`)
   std::vector<PdContact> pd_contacts_;            ///< the contact set, kept from frame to frame
-  std::vector<Eigen::Matrix3Xd> columns_;         ///< A^-1 N^T, one per contact (grown, never shrunk)
-  std::vector<Eigen::Vector3d> normals_;
+  std::vector<int> contact_nodes_;                ///< the contact set's nodes, in its order
+  std::vector<Eigen::Vector3d> normals_;          ///< their outward normals, zero where held
   Eigen::MatrixXd schur_;                         ///< S = N A^-1 N^T of the contact set
   Eigen::LDLT<Eigen::MatrixXd> schur_factor_;
   Eigen::VectorXd schur_rhs_, schur_mu_;          ///< S's right-hand side; the multipliers mu

@@ -243,6 +243,16 @@ TEST(SupernodalCholesky, ManyRightHandSidesAtOnceAreTheVectorSolves) {
     EXPECT_LT((X.col(j) - x).norm(), 1e-13 * x.norm()) << "column " << j;
     EXPECT_LT((A * X.col(j) - B.col(j)).norm(), 1e-12 * B.col(j).norm()) << "column " << j;
   }
+  // In caller-kept storage with a kept workspace: 7 columns, then the last 3 (the
+  // workspace larger than needed) give the same answers.
+  SupernodalCholesky::BlockWorkspace workspace;
+  Eigen::MatrixXd Y(A.rows(), 7);
+  cholesky.solve(B.data(), Y.data(), 7, workspace);
+  EXPECT_EQ((Y - X).norm(), 0);
+  Y.setZero();
+  cholesky.solve(B.data() + 4 * A.rows(), Y.data(), 3, workspace);
+  EXPECT_EQ((Y.leftCols(3) - X.rightCols(3)).norm(), 0);
+  EXPECT_EQ(Y.rightCols(4).norm(), 0);
   // No column: an empty answer; columns of the wrong length: refused.
   cholesky.solve(Eigen::MatrixXd(A.rows(), 0), X);
   EXPECT_EQ(X.cols(), 0);
