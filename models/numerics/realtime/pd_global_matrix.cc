@@ -100,13 +100,13 @@ void PdGlobalMatrix::node_constraints(const std::vector<int>& nodes, const std::
 void PdGlobalMatrix::add_constraint_response(const Eigen::VectorXd& mu, Eigen::Matrix3Xd& z) {
   const auto m = static_cast<Eigen::Index>(constraint_nodes_.size());
   if (m == 0) return;
-  if (weights_.size() != m) weights_.resize(m);
+  if (weights_.size() < m) weights_.resize(m);  // grown, never shrunk
   for (int c = 0; c < 3; ++c) {
     if (block_of_[c] < 0) continue;
     Block& block = blocks_[static_cast<size_t>(block_of_[c])];
     const auto rows = static_cast<Eigen::Index>(block.nodes.size());
     for (Eigen::Index a = 0; a < m; ++a) weights_(a) = mu(a) * constraint_directions_[static_cast<size_t>(a)](c);
-    block.x.noalias() = Eigen::Map<const Eigen::MatrixXd>(block.responses.data(), rows, m) * weights_;
+    block.x.noalias() = Eigen::Map<const Eigen::MatrixXd>(block.responses.data(), rows, m) * weights_.head(m);
     for (Eigen::Index k = 0; k < rows; ++k) z(c, block.nodes[static_cast<size_t>(k)]) += block.x(k);
   }
 }

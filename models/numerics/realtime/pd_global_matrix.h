@@ -37,7 +37,8 @@ class PdGlobalMatrix {
   /// block on the unit vectors of the nodes (A acts on the coordinates alike, so a
   /// constraint costs one scalar column per block, not three vector solves), and
   /// schur = N A^-1 N^T (m by m). No heap allocation once the storage has grown to m
-  /// constraints (and schur has its size).
+  /// constraints and schur has its size (and OpenBLAS runs on one thread, as the runner
+  /// sets it: its threaded dtrsm and dgemm allocate).
   void node_constraints(const std::vector<int>& nodes, const std::vector<Eigen::Vector3d>& directions,
                         Eigen::MatrixXd& schur);
   /// z += A^-1 N^T mu for the constraints of the last node_constraints call.

@@ -241,7 +241,7 @@ class PdSolve : public TetTimeStepper<Law> {
   /// One global step with the contact set's gaps linearised at x_ as constraints:
   ///   A d = -grad E + N^T mu,  N d = -g,
   /// solved by the Schur complement S = N A^-1 N^T (A^-1 N^T by one
-  /// multi-right-hand-side solve on A's factor: pd_global_matrix.h), then x += a d, a halved from 1 while a tet is not positive under
+  /// multi-right-hand-side solve per distinct factor of A: pd_global_matrix.h), then x += a d, a halved from 1 while a tet is not positive under
   /// a law undefined there and, in the quasi-Newton mode, until the Lagrangian
   /// decreases (below). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
   /// KKT conditions of the step's minimiser with the spheres. False (x_, the energy

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "test_support.h"
@@ -83,7 +84,15 @@ TEST(PdGlobalMatrix, BlockedConstraintResponsesAreTheVectorSolves) {
   const std::vector<Eigen::Vector3d> two_directions(directions.begin() + 1, directions.begin() + 3);
   A.node_constraints(two, two_directions, schur);
   ASSERT_EQ(schur.rows(), 2);
-  EXPECT_NEAR(schur(1, 0), directions[2].dot(columns[1].col(nodes[2])), 1e-13 * scale);
+  for (size_t a = 0; a < 2; ++a)
+    for (size_t b = 0; b < 2; ++b)
+      EXPECT_NEAR(schur(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)),
+                  directions[a + 1].dot(columns[b + 1].col(nodes[a + 1])), 1e-13 * scale)
+          << "after the larger set: " << a << ", " << b;
+  expected = mu(1) * columns[1] + mu(2) * columns[2];
+  blocked.setZero();
+  A.add_constraint_response(mu.segment(1, 2), blocked);
+  EXPECT_LT((blocked - expected).norm(), 1e-13 * expected.norm());
   // No constraint: an empty S, and no response.
   A.node_constraints({}, {}, schur);
   EXPECT_EQ(schur.size(), 0);
