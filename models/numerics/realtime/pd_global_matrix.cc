@@ -39,6 +39,7 @@ PdGlobalMatrix::PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>&
     Block block;
     block.nodes = std::move(nodes);
     block.row_of = std::move(row);
+    block.slot_of.assign(static_cast<size_t>(n), -1);
     block.cholesky = std::make_unique<SupernodalCholesky>(A);
     block.b = Eigen::VectorXd::Zero(A.rows());
     block.x = Eigen::VectorXd::Zero(A.rows());
@@ -69,19 +70,8 @@ void PdGlobalMatrix::node_constraints(const std::vector<int>& nodes, const std::
   schur.resize(M, M);
   schur.setZero();
   if (m == 0) return;
-  for (Block& block : blocks_) {
-    const size_t rows = block.nodes.size();
-    if (block.units.size() < rows * m) {
-      block.units.resize(rows * m);
-      block.responses.resize(rows * m);
-    }
-    std::fill(block.units.begin(), block.units.begin() + static_cast<std::ptrdiff_t>(rows * m), 0.0);
-    for (size_t a = 0; a < m; ++a) {
-      const int row = block.row_of[static_cast<size_t>(nodes[a])];
-      if (row >= 0) block.units[a * rows + static_cast<size_t>(row)] = 1;
-    }
-    block.cholesky->solve(block.units.data(), block.responses.data(), static_cast<int>(m), block.workspace);
-  }
+  ++call_;
+  for (Block& block : blocks_) cache_columns(block, nodes);
   // S(a, b) = n_a . (A^-1 N^T)_b at node a = sum_c n_a,c n_b,c [A_c^-1](node a, node b).
   for (int c = 0; c < 3; ++c) {
     if (block_of_[c] < 0) continue;
@@ -90,23 +80,73 @@ void PdGlobalMatrix::node_constraints(const std::vector<int>& nodes, const std::
     for (size_t a = 0; a < m; ++a) {
       const int row = block.row_of[static_cast<size_t>(nodes[a])];
       if (row < 0 || directions[a](c) == 0) continue;
-      for (size_t b = 0; b < m; ++b)
+      for (size_t b = 0; b < m; ++b) {
+        const int slot = block.slot_of[static_cast<size_t>(nodes[b])];
+        if (slot < 0) continue;  // node b not free in this block: its column is zero
         schur(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
-            directions[a](c) * directions[b](c) * block.responses[b * rows + static_cast<size_t>(row)];
+            directions[a](c) * directions[b](c) *
+            block.columns[static_cast<size_t>(slot) * rows + static_cast<size_t>(row)];
+      }
     }
   }
 }
 
+void PdGlobalMatrix::cache_columns(Block& block, const std::vector<int>& nodes) {
+  const size_t rows = block.nodes.size();
+  block.missing.clear();
+  for (int v : nodes) {
+    if (block.row_of[static_cast<size_t>(v)] < 0) continue;
+    const int slot = block.slot_of[static_cast<size_t>(v)];
+    if (slot >= 0) {
+      block.used_in[static_cast<size_t>(slot)] = call_;
+    } else if (slot == -1) {
+      block.slot_of[static_cast<size_t>(v)] = -2;  // queued (a node listed twice is solved once)
+      block.missing.push_back(v);
+    }
+  }
+  const size_t k = block.missing.size();
+  if (k == 0) return;
+  if (block.units.size() < rows * k) {
+    block.units.resize(rows * k);
+    block.solved.resize(rows * k);
+  }
+  std::fill(block.units.begin(), block.units.begin() + static_cast<std::ptrdiff_t>(rows * k), 0.0);
+  for (size_t j = 0; j < k; ++j)
+    block.units[j * rows + static_cast<size_t>(block.row_of[static_cast<size_t>(block.missing[j])])] = 1;
+  block.cholesky->solve(block.units.data(), block.solved.data(), static_cast<int>(k), block.workspace);
+  // Each new column takes a slot this call does not use (its node's column dropped),
+  // or a new one: the slots grow to the largest set of nodes one call has needed.
+  size_t slot = 0;
+  for (size_t j = 0; j < k; ++j) {
+    while (slot < block.slot_node.size() && block.used_in[slot] == call_) ++slot;
+    if (slot == block.slot_node.size()) {
+      block.slot_node.push_back(-1);
+      block.used_in.push_back(0);
+      block.columns.resize(block.slot_node.size() * rows);
+    }
+    if (block.slot_node[slot] >= 0) block.slot_of[static_cast<size_t>(block.slot_node[slot])] = -1;
+    const int v = block.missing[j];
+    std::copy_n(block.solved.begin() + static_cast<std::ptrdiff_t>(j * rows), rows,
+                block.columns.begin() + static_cast<std::ptrdiff_t>(slot * rows));
+    block.slot_node[slot] = v;
+    block.slot_of[static_cast<size_t>(v)] = static_cast<int>(slot);
+    block.used_in[slot] = call_;
+  }
+}
+
 void PdGlobalMatrix::add_constraint_response(const Eigen::VectorXd& mu, Eigen::Matrix3Xd& z) {
-  const auto m = static_cast<Eigen::Index>(constraint_nodes_.size());
-  if (m == 0) return;
-  if (weights_.size() < m) weights_.resize(m);  // grown, never shrunk
-  for (int c = 0; c < 3; ++c) {
+  const size_t m = constraint_nodes_.size();
+  for (int c = 0; c < 3 && m > 0; ++c) {
     if (block_of_[c] < 0) continue;
     Block& block = blocks_[static_cast<size_t>(block_of_[c])];
     const auto rows = static_cast<Eigen::Index>(block.nodes.size());
-    for (Eigen::Index a = 0; a < m; ++a) weights_(a) = mu(a) * constraint_directions_[static_cast<size_t>(a)](c);
-    block.x.noalias() = Eigen::Map<const Eigen::MatrixXd>(block.responses.data(), rows, m) * weights_.head(m);
+    block.x.setZero();
+    for (size_t b = 0; b < m; ++b) {
+      const int slot = block.slot_of[static_cast<size_t>(constraint_nodes_[b])];
+      const double weight = mu(static_cast<Eigen::Index>(b)) * constraint_directions_[b](c);
+      if (slot < 0 || weight == 0) continue;
+      block.x += weight * Eigen::Map<const Eigen::VectorXd>(block.columns.data() + static_cast<Eigen::Index>(slot) * rows, rows);
+    }
     for (Eigen::Index k = 0; k < rows; ++k) z(c, block.nodes[static_cast<size_t>(k)]) += block.x(k);
   }
 }

@@ -33,12 +33,14 @@ class PdGlobalMatrix {
 
   /// Constraints that each act on one node along a direction (row a of N is
   /// directions[a]^T at node nodes[a]; a direction must be zero in the node's held
-  /// components): their responses A^-1 N^T, by one multi-right-hand-side solve per
-  /// block on the unit vectors of the nodes (A acts on the coordinates alike, so a
-  /// constraint costs one scalar column per block, not three vector solves), and
-  /// schur = N A^-1 N^T (m by m). No heap allocation once the storage has grown to m
-  /// constraints and schur has its size (and OpenBLAS runs on one thread, as the runner
-  /// sets it: its threaded dtrsm and dgemm allocate).
+  /// components): schur = N A^-1 N^T (m by m) from the columns A_c^-1 e_v of the
+  /// nodes v. A acts on the coordinates alike, so a node needs one scalar column per
+  /// distinct factor, not three vector solves; A does not change, so a node's column
+  /// is kept from call to call, and only the nodes new to the set are solved, all at
+  /// once by a multi-right-hand-side solve (a contact set is mostly the last
+  /// iteration's and the last frame's). No heap allocation once the storage has grown
+  /// to the set's size and schur has its size (and OpenBLAS runs on one thread, as
+  /// the runner sets it: its threaded dtrsm and dgemm allocate).
   void node_constraints(const std::vector<int>& nodes, const std::vector<Eigen::Vector3d>& directions,
                         Eigen::MatrixXd& schur);
   /// z += A^-1 N^T mu for the constraints of the last node_constraints call.
@@ -54,14 +56,21 @@ class PdGlobalMatrix {
     std::unique_ptr<SupernodalCholesky> cholesky;
     std::vector<int> row_of;  ///< per node, its row (-1: not free here)
     Eigen::VectorXd b, x;
-    // node_constraints: the unit right-hand sides and their responses, rows by m,
-    // column-major; grown, never shrunk.
-    std::vector<double> units, responses;
+    // node_constraints' kept columns: slot s holds A^-1 e_row(slot_node[s]) at
+    // columns[s * rows, (s + 1) * rows), last needed by call used_in[s]; slot_of: per
+    // node, its slot (-1 none, -2 queued for this call's solve). Grown, never shrunk.
+    std::vector<int> slot_of, slot_node, missing;
+    std::vector<long> used_in;
+    std::vector<double> columns, units, solved;  ///< kept columns; this call's right-hand sides and answers
     SupernodalCholesky::BlockWorkspace workspace;
   };
+  /// Puts the columns of `nodes` (those free in the block) into its slots, solving
+  /// the ones it does not hold.
+  void cache_columns(Block& block, const std::vector<int>& nodes);
+
   std::vector<int> constraint_nodes_;
   std::vector<Eigen::Vector3d> constraint_directions_;
-  Eigen::VectorXd weights_;  ///< mu_a times a direction's component
+  long call_ = 0;  ///< node_constraints calls so far
   std::vector<Block> blocks_;
   int block_of_[3] = {-1, -1, -1};  ///< per coordinate, its block (-1: no free node)
 };

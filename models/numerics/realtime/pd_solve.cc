@@ -241,12 +241,14 @@ class PdSolve : public TetTimeStepper<Law> {
   /// One global step with the contact set's gaps linearised at x_ as constraints:
   ///   A d = -grad E + N^T mu,  N d = -g,
   /// solved by the Schur complement S = N A^-1 N^T (A^-1 N^T by one
-  /// multi-right-hand-side solve per distinct factor of A: pd_global_matrix.h), then x += a d, a halved from 1 while a tet is not positive under
-  /// a law undefined there and, in the quasi-Newton mode, until the Lagrangian
-  /// decreases (below). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the
-  /// KKT conditions of the step's minimiser with the spheres. False (x_, the energy
-  /// and the set's multipliers left as they were, so the frame's iterations end with
-  /// the gaps the last accepted step left) if no a down to 2^-30 qualifies.
+  /// multi-right-hand-side solve per distinct factor of A: pd_global_matrix.h),
+  /// then x += a d, a halved from 1 while a tet is not positive under a law
+  /// undefined there and, in the quasi-Newton mode, until the Lagrangian decreases
+  /// (below). A fixed point (d = 0) has g = 0 and grad E = N^T mu: the KKT
+  /// conditions of the step's minimiser with the spheres. False (x_, the energy and
+  /// the set's multipliers left as they were, so the frame's iterations end with the
+  /// gaps the last accepted step left) if no a down to 2^-30 qualifies or S's
+  /// multipliers are not finite.
   bool constrained_step(double h2, double& energy) {
     const size_t m = pd_contacts_.size();
     global_->solve(gradient_, direction_);
@@ -268,6 +270,13 @@ class PdSolve : public TetTimeStepper<Law> {
     global_->node_constraints(contact_nodes_, normals_, schur_);
     schur_factor_.compute(schur_);
     schur_mu_ = schur_factor_.solve(schur_rhs_);
+    // S is positive semi-definite (A is positive definite); a non-finite multiplier
+    // (a rounding failure of the factorisation) ends the frame's iterations as a
+    // failed line search does, with the last accepted step.
+    if (schur_factor_.info() != Eigen::Success || !schur_mu_.allFinite()) {
+      ++failures_;
+      return false;
+    }
     const Eigen::VectorXd& mu = schur_mu_;
     global_->add_constraint_response(mu, direction_);
     // The step is halved until it decreases the Lagrangian L = E - mu . g (mu fixed

@@ -1,10 +1,12 @@
-// The global matrix of projective dynamics: its blocked contact responses
+// The global matrix of projective dynamics: its blocked and kept contact responses
 // (node_constraints, add_constraint_response) against one vector solve per
-// constraint, on a box whose holds give the coordinates two distinct factors.
+// constraint, on a box whose holds give the coordinates two distinct factors, as
+// the contact set shrinks, changes and grows again.
 #include "pd_global_matrix.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -93,6 +95,30 @@ TEST(PdGlobalMatrix, BlockedConstraintResponsesAreTheVectorSolves) {
   blocked.setZero();
   A.add_constraint_response(mu.segment(1, 2), blocked);
   EXPECT_LT((blocked - expected).norm(), 1e-13 * expected.norm());
+  // A node new to the set (its column solved, another node's dropped), then the
+  // first set again (the dropped column solved anew): each against the vector solves.
+  int extra = -1;
+  for (Eigen::Index v = 0; v < n && extra < 0; ++v)
+    if (free.col(v).sum() == 3 && std::find(nodes.begin(), nodes.end(), v) == nodes.end()) extra = static_cast<int>(v);
+  ASSERT_GE(extra, 0);
+  q.setZero();
+  q.col(extra) = Eigen::Vector3d(0.6, 0, 0.8);
+  Eigen::Matrix3Xd extra_column(3, n);
+  A.solve(q, extra_column);
+  A.node_constraints({nodes[3], extra}, {directions[3], q.col(extra)}, schur);
+  EXPECT_NEAR(schur(0, 0), directions[3].dot(columns[3].col(nodes[3])), 1e-13 * scale);
+  EXPECT_NEAR(schur(1, 1), q.col(extra).dot(extra_column.col(extra)), 1e-13 * scale);
+  EXPECT_NEAR(schur(0, 1), directions[3].dot(extra_column.col(nodes[3])), 1e-13 * scale);
+  blocked.setZero();
+  A.add_constraint_response(Eigen::Vector2d(0.4, -0.7), blocked);
+  expected = 0.4 * columns[3] - 0.7 * extra_column;
+  EXPECT_LT((blocked - expected).norm(), 1e-13 * expected.norm());
+  A.node_constraints(nodes, directions, schur);
+  for (size_t a = 0; a < nodes.size(); ++a)
+    for (size_t b = 0; b < nodes.size(); ++b)
+      EXPECT_NEAR(schur(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)),
+                  directions[a].dot(columns[b].col(nodes[a])), 1e-13 * scale)
+          << "the first set again: " << a << ", " << b;
   // No constraint: an empty S, and no response.
   A.node_constraints({}, {}, schur);
   EXPECT_EQ(schur.size(), 0);
