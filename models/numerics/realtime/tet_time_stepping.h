@@ -14,7 +14,9 @@
 // is read as a tool's: at each marked node, the normal component of the
 // implicit-Euler balance m (x - x_n - h v_n) / h^2 + f_int(x) - f (n . r) n, summed
 // with the sign turned (the force on the sphere); at a steady state it is the
-// contact multiplier of the static equilibrium (docs/equations.md).
+// contact multiplier of the static equilibrium (docs/equations.md). XPBD, whose
+// fixed point is not the law's equilibrium, reports its own contact multipliers
+// instead (own_contact_force: what a haptic loop on XPBD renders).
 //
 // Reactions (what the tissue exerts on a tool): at a held dof c, f_c - f_int,c(x)
 // - m_c (x_c - x_n,c - h v_n,c) / h^2, the implicit-Euler balance of the node the
@@ -179,14 +181,21 @@ class TetTimeStepper : public ElasticSolve {
   }
   /// Node v's position moved out of sphere k onto its surface along the normal at x
   /// (Mueller et al. 2007, sec. 3.5: C(x) = |x - c| - r >= 0 with stiffness 1), its
-  /// held components kept; true if it was inside (and so moved).
-  bool project_out_of_sphere(Eigen::Index v, int k) {
+  /// held components kept; true if it was inside (and so moved), the move added to
+  /// `moved` when given.
+  bool project_out_of_sphere(Eigen::Index v, int k, Eigen::Vector3d* moved = nullptr) {
     Eigen::Vector3d n;
     const double g = spheres_->gap(x_.col(v), k, n);
     if (g >= 0) return false;
-    x_.col(v) -= g * n.cwiseProduct(free_.col(v));
+    const Eigen::Vector3d dx = -g * n.cwiseProduct(free_.col(v));
+    x_.col(v) += dx;
+    if (moved) *moved += dx;
     return true;
   }
+  /// The force sphere k gives marked node v (on the body, N) where a stepper reads it
+  /// from its own contact constraint (XPBD: its multipliers); false for the
+  /// implicit-Euler balance of the law (header comment).
+  virtual bool own_contact_force(Eigen::Index /*v*/, int /*k*/, Eigen::Vector3d& /*force*/) const { return false; }
 
   /// F of tet t at positions x (3 by #V) (tet_F).
   Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
@@ -374,11 +383,15 @@ class TetTimeStepper : public ElasticSolve {
       if (!touching_[i]) continue;
       const Eigen::Index v = static_cast<Eigen::Index>(i / static_cast<size_t>(S));
       const int k = static_cast<int>(i % static_cast<size_t>(S));
-      Eigen::Vector3d r = mass_(v) * (x_.col(v) - x_n_.col(v) - h * v_n_held_.col(v)) / (h * h) - f_ext_.col(v);
-      for (int j = around_contact_.offset[static_cast<size_t>(v)]; j < around_contact_.offset[static_cast<size_t>(v) + 1]; ++j) {
-        const auto [t, a] = around_contact_.around[static_cast<size_t>(j)];
-        const TetShape& shape = shapes_[static_cast<size_t>(t)];
-        r += shape.volume * (law_.first_piola(deformation_gradient(t, x_)) * shape.gradients.col(a));
+      Eigen::Vector3d r;
+      if (!own_contact_force(v, k, r)) {
+        r = mass_(v) * (x_.col(v) - x_n_.col(v) - h * v_n_held_.col(v)) / (h * h) - f_ext_.col(v);
+        for (int j = around_contact_.offset[static_cast<size_t>(v)]; j < around_contact_.offset[static_cast<size_t>(v) + 1];
+             ++j) {
+          const auto [t, a] = around_contact_.around[static_cast<size_t>(j)];
+          const TetShape& shape = shapes_[static_cast<size_t>(t)];
+          r += shape.volume * (law_.first_piola(deformation_gradient(t, x_)) * shape.gradients.col(a));
+        }
       }
       r = r.cwiseProduct(free_.col(v));  // a held component's share goes to its tool
       Eigen::Vector3d normal;

@@ -62,6 +62,8 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     const double keep = 1 / (1 + o_.damping * h);
     const Eigen::Index n = x_.cols();
     auto project = [this, h](int p) { project_tet(p, h); };
+    if (contact_on())  // allocates only when the number of spheres changes
+      contact_impulse_.resize(spheres_->surface_nodes().size() * static_cast<size_t>(spheres_->spheres()));
     for (int s = 1; s <= n_sub; ++s) {
       x_sub_ = x_;
       const double along = static_cast<double>(s) / n_sub;
@@ -76,10 +78,12 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
         }
       lambda_d_.setZero();
       lambda_h_.setZero();
+      if (contact_on()) std::fill(contact_impulse_.begin(), contact_impulse_.end(), Eigen::Vector3d::Zero());
       for (int k = 0; k < o_.iterations; ++k) {
         sweep(colours_, project);
         if (contact_on()) project_spheres();
       }
+      if (contact_on()) mark_pushed_nodes();
       for (Eigen::Index v = 0; v < n; ++v)
         for (int i = 0; i < 3; ++i)
           if (free_(i, v) != 0) v_(i, v) = keep * (x_(i, v) - x_sub_(i, v)) / h;
@@ -101,11 +105,45 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// The collision constraints (Mueller et al. 2007, sec. 3.5; Macklin et al. 2016
   /// treat contacts as constraints of the same solve): after each sweep of the tets,
   /// every free surface node inside a sphere moves to its surface along the normal.
-  /// A node is in contact (marked) when the last projection moved it.
+  /// Each projection is a multiplier step of the stiff constraint, d lambda = m |dx|
+  /// along the normal (w = 1/m: the sphere does not move), accumulated over the
+  /// sub-step's iterations as the tets' multipliers are: m dx summed per node.
   void project_spheres() {
-    for (int node : spheres_->surface_nodes())
-      if (surface_vertex(node) >= 0)
-        for (int k = 0; k < spheres_->spheres(); ++k) mark_contact(node, k, project_out_of_sphere(node, k));
+    const int S = spheres_->spheres();
+    for (int node : spheres_->surface_nodes()) {
+      const int vertex = surface_vertex(node);
+      if (vertex < 0) continue;
+      for (int k = 0; k < S; ++k) {
+        Eigen::Vector3d moved = Eigen::Vector3d::Zero();
+        if (project_out_of_sphere(node, k, &moved))
+          contact_impulse_[static_cast<size_t>(vertex) * static_cast<size_t>(S) + static_cast<size_t>(k)] +=
+              mass_(node) * moved;
+      }
+    }
+  }
+
+  /// A node is in contact (marked) when a projection of the sub-step moved it.
+  void mark_pushed_nodes() {
+    const int S = spheres_->spheres();
+    for (int node : spheres_->surface_nodes()) {
+      const int vertex = surface_vertex(node);
+      if (vertex < 0) continue;
+      for (int k = 0; k < S; ++k)
+        mark_contact(node, k,
+                     contact_impulse_[static_cast<size_t>(vertex) * static_cast<size_t>(S) + static_cast<size_t>(k)]
+                             .squaredNorm() > 0);
+    }
+  }
+
+  /// The last sub-step's contact multipliers as a force, lambda / h_sub^2 along the
+  /// constraint's gradient (Macklin, Mueller and Chentanez 2016, eq. 17): the sum of
+  /// the node's m dx over the sub-step's iterations, over h_sub^2.
+  bool own_contact_force(Eigen::Index v, int k, Eigen::Vector3d& force) const override {
+    const double h = s_.time_step / o_.substeps;
+    const int S = spheres_->spheres();
+    force = contact_impulse_[static_cast<size_t>(surface_vertex(v)) * static_cast<size_t>(S) + static_cast<size_t>(k)] /
+            (h * h);
+    return true;
   }
 
   /// Tet t's two constraints projected together: the XPBD update of the pair, one
@@ -154,6 +192,9 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   Eigen::Matrix3Xd inverse_mass_;  ///< per component: 1 / m where free, 0 where held
   Eigen::VectorXd lambda_d_, lambda_h_;  ///< the multipliers, by sweep position
   Eigen::Matrix3Xd x_sub_;  ///< positions at the sub-step's start
+  /// Per surface vertex and sphere (vertex * #spheres + k), the sub-step's sum of m dx
+  /// of its projections out of the sphere, kg m (sized in each frame with contact).
+  std::vector<Eigen::Vector3d> contact_impulse_;
 };
 
 }  // namespace
