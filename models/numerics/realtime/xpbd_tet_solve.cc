@@ -96,6 +96,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
             {"substeps", o_.substeps},
             {"iterations", o_.iterations},
             {"damping_per_s", o_.damping},
+            {"sphere_force", "its contact multipliers: lambda / h_sub^2 over the last sub-step's projections"},
             {"tet_colours", colours_.size()}};
   }
 
