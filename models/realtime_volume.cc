@@ -70,7 +70,7 @@ void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const s
                 "smaller than the coarse spacing becomes a point-like hold); no sphere (the coarse stepper has no "
                 "contact set on the embedded surface)";
   m.reactions = reactions + " (the fine or the coarse volume's nodes); a sphere: the normal part of that balance at "
-                "its contact nodes";
+                "its contact nodes (xpbd_neo: of its contact multipliers, lambda / h_sub^2)";
   m.probes = "volume fine: " + m.probes + "; volume coarse_embedded: " + coarse.probes;
 }
 

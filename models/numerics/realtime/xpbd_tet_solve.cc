@@ -62,7 +62,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     const double keep = 1 / (1 + o_.damping * h);
     const Eigen::Index n = x_.cols();
     auto project = [this, h](int p) { project_tet(p, h); };
-    if (contact_on())  // allocates only when the number of spheres changes
+    if (contact_on())  // allocates only when it grows (the first frame with contact, or more spheres)
       contact_impulse_.resize(spheres_->surface_nodes().size() * static_cast<size_t>(spheres_->spheres()));
     for (int s = 1; s <= n_sub; ++s) {
       x_sub_ = x_;
@@ -142,6 +142,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   bool own_contact_force(Eigen::Index v, int k, Eigen::Vector3d& force) const override {
     const double h = s_.time_step / o_.substeps;
     const int S = spheres_->spheres();
+    if (surface_vertex(v) < 0) return false;  // not a surface node: never marked (mark_pushed_nodes)
     force = contact_impulse_[static_cast<size_t>(surface_vertex(v)) * static_cast<size_t>(S) + static_cast<size_t>(k)] /
             (h * h);
     return true;

@@ -106,7 +106,7 @@ TEST_P(SettledStepper, EqualsTheStaticNewtonAnswerUnderAPlate) {
 // (VBD: the gap in the vertex's Newton step; XPBD: a projection after each sweep;
 // PD: the gaps as constraints of the global step) has that equilibrium as its fixed
 // point; the force is the normal part of the implicit-Euler balance at the contact
-// nodes (tet_time_stepping.h).
+// nodes (tet_time_stepping.h), XPBD's its contact multipliers (xpbd_tet_solve.cc).
 TEST_P(SettledStepper, EqualsTheStaticNewtonContactUnderASphere) {
   const Stepper& s = GetParam();
   const SmallCube c;
@@ -153,9 +153,10 @@ TEST_P(SettledStepper, EqualsTheStaticNewtonContactUnderASphere) {
               s.name.c_str(), frames, error, force_error, expected_force.z(), expected_contacts,
               static_cast<int>(stepper->spheres()->contact_vertices()[0].size()), stepper->spheres()->penetration()[0]);
   // XPBD's fixed point is not the law's equilibrium (SettledStepper's tolerance); with
-  // the sphere its bias measured 3.5e-3 (field) and 5.9e-3 (force) at 40 sub-steps of
-  // 10 ms: bounded at twice that. VBD and PD: 1e-6 (measured 1e-11 to 1e-12 for VBD).
-  const double tolerance = s.name == "xpbd_neo" ? 1.2e-2 : s.tolerance;
+  // the sphere its bias measured 3.5e-3 (field) and 2.6e-3 (force, its multipliers;
+  // 5.9e-3 from the law's balance) at 40 sub-steps of 10 ms: bounded at twice the
+  // larger. VBD and PD: 1e-6 (measured 1e-11 to 1e-12 for VBD).
+  const double tolerance = s.name == "xpbd_neo" ? 7e-3 : s.tolerance;
   EXPECT_LE(frames, s.max_frames) << s.name;
   EXPECT_LT(error, tolerance) << s.name;
   EXPECT_LT(force_error, tolerance) << s.name;
