@@ -116,9 +116,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       if (vertex < 0) continue;
       for (int k = 0; k < S; ++k) {
         Eigen::Vector3d moved = Eigen::Vector3d::Zero();
-        if (project_out_of_sphere(node, k, &moved))
-          contact_impulse_[static_cast<size_t>(vertex) * static_cast<size_t>(S) + static_cast<size_t>(k)] +=
-              mass_(node) * moved;
+        if (project_out_of_sphere(node, k, &moved)) contact_impulse_[impulse_index(vertex, k)] += mass_(node) * moved;
       }
     }
   }
@@ -129,10 +127,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     for (int node : spheres_->surface_nodes()) {
       const int vertex = surface_vertex(node);
       if (vertex < 0) continue;
-      for (int k = 0; k < S; ++k)
-        mark_contact(node, k,
-                     contact_impulse_[static_cast<size_t>(vertex) * static_cast<size_t>(S) + static_cast<size_t>(k)]
-                             .squaredNorm() > 0);
+      for (int k = 0; k < S; ++k) mark_contact(node, k, contact_impulse_[impulse_index(vertex, k)].squaredNorm() > 0);
     }
   }
 
@@ -141,11 +136,14 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// the node's m dx over the sub-step's iterations, over h_sub^2.
   bool own_contact_force(Eigen::Index v, int k, Eigen::Vector3d& force) const override {
     const double h = s_.time_step / o_.substeps;
-    const int S = spheres_->spheres();
     if (surface_vertex(v) < 0) return false;  // not a surface node: never marked (mark_pushed_nodes)
-    force = contact_impulse_[static_cast<size_t>(surface_vertex(v)) * static_cast<size_t>(S) + static_cast<size_t>(k)] /
-            (h * h);
+    force = contact_impulse_[impulse_index(surface_vertex(v), k)] / (h * h);
     return true;
+  }
+
+  /// Where contact_impulse_ holds surface vertex `vertex`'s sum for sphere k.
+  size_t impulse_index(int vertex, int k) const {
+    return static_cast<size_t>(vertex) * static_cast<size_t>(spheres_->spheres()) + static_cast<size_t>(k);
   }
 
   /// Tet t's two constraints projected together: the XPBD update of the pair, one
