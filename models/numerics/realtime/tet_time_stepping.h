@@ -21,7 +21,8 @@
 // Reactions (what the tissue exerts on a tool): at a held dof c, f_c - f_int,c(x)
 // - m_c (x_c - x_n,c - h v_n,c) / h^2, the implicit-Euler balance of the node the
 // tool moves (as the fem_dynamic reference measures it; docs/equations.md), from
-// the law's own f_int over the tets that touch a held node, once per frame.
+// the law's own f_int over the tets that touch a held node, once per frame. XPBD
+// gives its own f_int there, from its tet multipliers (add_held_internal_force).
 #pragma once
 
 #include <Eigen/Core>
@@ -196,6 +197,20 @@ class TetTimeStepper : public ElasticSolve {
   /// from its own contact constraint (XPBD: its multipliers); false for the
   /// implicit-Euler balance of the law (header comment).
   virtual bool own_contact_force(Eigen::Index /*v*/, int /*k*/, Eigen::Vector3d& /*force*/) const { return false; }
+
+  /// Adds f_int at the held dofs into f (3 #V; other dofs may receive anything, the
+  /// reactions read none): the law's, sum over the tets that touch a held node of
+  /// V P(F) g_a. A stepper whose fixed point is not the law's equilibrium gives its
+  /// own (XPBD: its tet multipliers).
+  virtual void add_held_internal_force(Eigen::VectorXd& f) const {
+    for (int t : held_tets_) add_law_internal_force(t, f);
+  }
+  /// Adds tet t's f_int under the law at x_, V P(F) g_a at each node a, into f (3 #V).
+  void add_law_internal_force(int t, Eigen::VectorXd& f) const {
+    const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));
+    const TetShape& shape = shapes_[static_cast<size_t>(t)];
+    for (int a = 0; a < 4; ++a) f.segment<3>(3 * T_(t, a)) += shape.volume * (P * shape.gradients.col(a));
+  }
 
   /// F of tet t at positions x (3 by #V) (tet_F).
   Eigen::Matrix3d deformation_gradient(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
@@ -404,12 +419,7 @@ class TetTimeStepper : public ElasticSolve {
   void measure_reactions() {
     reaction_force_.setZero();
     const double h = s_.time_step;
-    for (int t : held_tets_) {
-      const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));
-      const TetShape& shape = shapes_[static_cast<size_t>(t)];
-      for (int a = 0; a < 4; ++a)
-        reaction_force_.segment<3>(3 * T_(t, a)) += shape.volume * (P * shape.gradients.col(a));
-    }
+    add_held_internal_force(reaction_force_);
     // The held nodes' inertia: the tool accelerates the mass it holds.
     for (Eigen::Index v = 0; v < X_.cols(); ++v)
       for (int i = 0; i < 3; ++i)

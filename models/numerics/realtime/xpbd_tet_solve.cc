@@ -36,6 +36,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       moving[static_cast<size_t>(v)] = free_.col(v).sum() > 0;
     }
     // The colours as sweep positions, the tets' data in that order.
+    std::vector<int> tet_at_position;
     for (const std::vector<int>& c : colour_tets(T_, static_cast<int>(n), moving)) {
       std::vector<int> positions;
       for (int t : c) {
@@ -47,9 +48,30 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
         tet.compliance_d = 1 / (law_.mu * shape.volume);
         tet.compliance_h = 1 / (law_.lambda * shape.volume);
         tets_.push_back(tet);
+        tet_at_position.push_back(t);
       }
       colours_.push_back(std::move(positions));
     }
+    // The tets that touch a held node: those with a free component keep their
+    // projections' push on the held nodes (held_push_); those held entirely are never
+    // projected, and give the law's force (add_held_internal_force).
+    held_slot_.assign(tets_.size(), -1);
+    for (size_t p = 0; p < tets_.size(); ++p) {
+      int held_nodes = 0;
+      bool free_component = false;
+      for (int node : tets_[p].nodes) {
+        held_nodes += free_.col(node).minCoeff() == 0;
+        free_component = free_component || free_.col(node).maxCoeff() > 0;
+      }
+      if (held_nodes == 0) continue;
+      if (free_component) {
+        held_slot_[p] = static_cast<int>(held_position_.size());
+        held_position_.push_back(static_cast<int>(p));
+      } else {
+        held_entirely_.push_back(tet_at_position[p]);
+      }
+    }
+    held_push_.assign(held_position_.size(), Eigen::Matrix<double, 3, 4>::Zero());
     lambda_d_ = Eigen::VectorXd::Zero(T_.rows());
     lambda_h_ = Eigen::VectorXd::Zero(T_.rows());
     x_sub_ = x_;
@@ -78,6 +100,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
         }
       lambda_d_.setZero();
       lambda_h_.setZero();
+      std::fill(held_push_.begin(), held_push_.end(), Eigen::Matrix<double, 3, 4>::Zero());
       if (contact_on()) std::fill(contact_impulse_.begin(), contact_impulse_.end(), Eigen::Vector3d::Zero());
       for (int k = 0; k < o_.iterations; ++k) {
         sweep(colours_, project);
@@ -97,6 +120,8 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
             {"iterations", o_.iterations},
             {"damping_per_s", o_.damping},
             {"sphere_force", "its contact multipliers: lambda / h_sub^2 over the last sub-step's projections"},
+            {"reactions", "its tet multipliers at the held nodes: grad C lambda / h_sub^2 over the last sub-step's "
+                          "projections, and the held nodes' inertia"},
             {"tet_colours", colours_.size()}};
   }
 
@@ -141,6 +166,23 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     return true;
   }
 
+  /// The held nodes' f_int from the tet multipliers of the last sub-step: a
+  /// projection pushes node a by grad_a C dlambda / m, the force grad_a C dlambda /
+  /// h_sub^2 (Macklin, Mueller and Chentanez 2016, eq. 17), which the tissue takes
+  /// from a held node as it would a free one's move; f_int is its negative. The
+  /// law's balance at XPBD's positions is not XPBD's equilibrium: near
+  /// incompressibility lambda' (det F - alpha) there is far from what the projections
+  /// apply (docs/realtime_nonlinear.md). A tet held entirely is never projected: the
+  /// law's V P g_a, which its multipliers would reach.
+  void add_held_internal_force(Eigen::VectorXd& f) const override {
+    const double h = s_.time_step / o_.substeps;
+    for (size_t slot = 0; slot < held_position_.size(); ++slot) {
+      const TetInSweep& tet = tets_[static_cast<size_t>(held_position_[slot])];
+      for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet.nodes[static_cast<size_t>(a)]) -= held_push_[slot].col(a) / (h * h);
+    }
+    for (int t : held_entirely_) add_law_internal_force(t, f);
+  }
+
   /// Where contact_impulse_ holds surface vertex `vertex`'s sum for sphere k.
   size_t impulse_index(int vertex, int k) const {
     return static_cast<size_t>(vertex) * static_cast<size_t>(spheres_->spheres()) + static_cast<size_t>(k);
@@ -177,6 +219,8 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     const Eigen::Vector2d d_lambda = A.inverse() * rhs;  // A is symmetric positive definite (alpha~ > 0)
     lambda_d_(p) += d_lambda(0);
     lambda_h_(p) += d_lambda(1);
+    if (const int slot = held_slot_[static_cast<size_t>(p)]; slot >= 0)  // only this tet's projection writes it
+      held_push_[static_cast<size_t>(slot)] += d_lambda(0) * grad_d + d_lambda(1) * grad_h;
     for (int a = 0; a < 4; ++a) {
       const int node = tet.nodes[static_cast<size_t>(a)];
       // A held node is not written: the colouring keeps a colour's tets apart only
@@ -195,6 +239,12 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// Per surface vertex and sphere (vertex * #spheres + k), the sub-step's sum of m dx
   /// of its projections out of the sphere, kg m (sized in each frame with contact).
   std::vector<Eigen::Vector3d> contact_impulse_;
+  std::vector<int> held_slot_;      ///< per sweep position, its held_push_ slot or -1
+  std::vector<int> held_position_;  ///< per slot, the tet's sweep position
+  /// Per slot, the sub-step's sum of grad_a C dlambda over the tet's projections,
+  /// column a for node a (read at the held nodes only).
+  std::vector<Eigen::Matrix<double, 3, 4>> held_push_;
+  std::vector<int> held_entirely_;  ///< the tets whose every component is held (mesh indices)
 };
 
 }  // namespace
