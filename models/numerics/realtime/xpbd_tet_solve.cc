@@ -65,13 +65,13 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       }
       if (held_nodes == 0) continue;
       if (free_component) {
-        held_slot_[p] = static_cast<int>(held_position_.size());
-        held_position_.push_back(static_cast<int>(p));
+        held_slot_[p] = static_cast<int>(slot_position_.size());
+        slot_position_.push_back(static_cast<int>(p));
       } else {
         held_entirely_.push_back(tet_at_position[p]);
       }
     }
-    held_push_.assign(held_position_.size(), Eigen::Matrix<double, 3, 4>::Zero());
+    held_push_.assign(slot_position_.size(), Eigen::Matrix<double, 3, 4>::Zero());
     lambda_d_ = Eigen::VectorXd::Zero(T_.rows());
     lambda_h_ = Eigen::VectorXd::Zero(T_.rows());
     x_sub_ = x_;
@@ -120,8 +120,8 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
             {"iterations", o_.iterations},
             {"damping_per_s", o_.damping},
             {"sphere_force", "its contact multipliers: lambda / h_sub^2 over the last sub-step's projections"},
-            {"reactions", "its tet multipliers at the held nodes: grad C lambda / h_sub^2 over the last sub-step's "
-                          "projections, and the held nodes' inertia"},
+            {"reactions", "its tet multipliers at the held nodes: the sum of grad C dlambda / h_sub^2 over the last "
+                          "sub-step's projections, and the held nodes' inertia over the frame"},
             {"tet_colours", colours_.size()}};
   }
 
@@ -176,8 +176,8 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// law's V P g_a, which its multipliers would reach.
   void add_held_internal_force(Eigen::VectorXd& f) const override {
     const double h = s_.time_step / o_.substeps;
-    for (size_t slot = 0; slot < held_position_.size(); ++slot) {
-      const TetInSweep& tet = tets_[static_cast<size_t>(held_position_[slot])];
+    for (size_t slot = 0; slot < slot_position_.size(); ++slot) {
+      const TetInSweep& tet = tets_[static_cast<size_t>(slot_position_[slot])];
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet.nodes[static_cast<size_t>(a)]) -= held_push_[slot].col(a) / (h * h);
     }
     for (int t : held_entirely_) add_law_internal_force(t, f);
@@ -240,7 +240,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// of its projections out of the sphere, kg m (sized in each frame with contact).
   std::vector<Eigen::Vector3d> contact_impulse_;
   std::vector<int> held_slot_;      ///< per sweep position, its held_push_ slot or -1
-  std::vector<int> held_position_;  ///< per slot, the tet's sweep position
+  std::vector<int> slot_position_;  ///< per slot, the tet's sweep position
   /// Per slot, the sub-step's sum of grad_a C dlambda over the tet's projections,
   /// column a for node a (read at the held nodes only).
   std::vector<Eigen::Matrix<double, 3, 4>> held_push_;
