@@ -31,6 +31,10 @@ from results_index import ResultsError  # noqa: E402
 from table_io import busy_cases, case_legend, fmt, machine_note, write_table  # noqa: E402
 
 BUDGETS_MS = (0.1, 1.0, 16.0)
+# A case's median frame moves by up to this factor between runs of the same binary on
+# the 2-vCPU machines the suite was timed on (docs/suite.md, "What the suite says"): a
+# more accurate case that misses a budget by less is named beside the cell's.
+EDGE_FACTOR = 1.5
 TRUTH_CUBE_ROLE_PREFIX = "truth_cube"
 
 
@@ -246,6 +250,26 @@ def best_within(scores, key, budget):
     return min(fits, key=lambda s: (s[key], s["median_ms"])) if fits else None
 
 
+def near_miss(scores, key, budget, best):
+    """The most accurate case more accurate than `best` (None: any) whose median frame misses
+    the budget by less than EDGE_FACTOR, or None."""
+    misses = [s for s in scores if not s["is_reference"] and budget < s["median_ms"] <= EDGE_FACTOR * budget
+              and math.isfinite(s[key]) and (best is None or s[key] < best[key])]
+    return min(misses, key=lambda s: (s[key], s["median_ms"])) if misses else None
+
+
+def budget_cell(scores, key, budget):
+    """A leaderboard cell: the best case within the budget and its error, then in brackets a
+    more accurate one just over it (near_miss)."""
+    best = best_within(scores, key, budget)
+    text = ("none fits" if best is None else
+            f"{best['case']} {sig(best[key])}{'' if best['settled'] else ' (not settled)'}")
+    miss = near_miss(scores, key, budget, best)
+    if miss:
+        text += f" ({miss['case']} {sig(miss[key])} at {miss['median_ms']:.3g} ms)"
+    return text
+
+
 def not_run_cases(exp, scenario):
     """[(case, reason)]: cases the suite lists but did not run here (skipped or failed)."""
     out = []
@@ -358,9 +382,7 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         busy = busy_cases(exp.scenario(scenario))
         row = [role + (f" (times of {len(busy)} cases from a busy machine)" if busy else ""), ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
         for budget in BUDGETS_MS:
-            best = best_within(scores, key, budget)
-            row.append("none fits" if best is None else
-                       f"{best['case']} {sig(best[key])}{'' if best['settled'] else ' (not settled)'}")
+            row.append(budget_cell(scores, key, budget))
         row.append(reference_error_text(declared.get(role)))
         board_rows.append(row)
         if role in declared:
@@ -393,7 +415,9 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                 board_rows,
                 "Each cell: the case with the smallest error among those whose median frame fits the budget, "
                 "and that error (relative L2 of the observed surface against the scenario's reference case; "
-                "on the Truth Cube, the RMS bead error in mm). The reference's own error: the estimated "
+                "on the Truth Cube, the RMS bead error in mm); in brackets, a more accurate case whose median "
+                f"misses the budget by less than {EDGE_FACTOR:g} times, the run-to-run spread of frame times "
+                "on the machines measured (docs/suite.md). The reference's own error: the estimated "
                 "discretisation error of the reference case's field (relative L2 against the converged field of the "
                 "run named, docs/reference_convergence.md, 'Every suite scenario'): errors below it rank models "
                 "on what the reference cannot resolve. " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
