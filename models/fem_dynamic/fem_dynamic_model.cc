@@ -29,13 +29,12 @@ ModelInfo fem_dynamic_model_info() {
     });
   };
   describe_fine_fem(m);
-  // The sphere's active set works on a linear solve's factor (sphere_contact.h).
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate};
   m.tools_how = "the fine-volume nodes of the held surface vertices, as Dirichlet values moved with each step; a "
-                "sliding plate holds the normal component only";
+                "sliding plate holds the normal component only; a sphere: a primal-dual active set on the linearised "
+                "gaps inside each step's Newton iteration (the static Newton solve's, on the incremental potential)";
   m.reactions =
       "f - f_int(u) - M (u - u_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the tool also "
-      "accelerates the mass it holds)";
+      "accelerates the mass it holds); a sphere: minus the sum of its contact multipliers lambda_i n_i";
   return m;
 }
 

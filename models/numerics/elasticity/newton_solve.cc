@@ -22,8 +22,10 @@
 // equilibrium the frame's answer is. Under a constant load the frames continue
 // Newton's iteration: k frames of budget 1 are one frame of budget k.
 //
-// Rigid frictionless spheres (the static solve, any law): the KKT conditions of
-// min Pi(u) subject to g_i(u) = |x_i - c| - r >= 0 at the body's surface nodes,
+// Rigid frictionless spheres (any law): the KKT conditions of min Pi(u) subject to
+// g_i(u) = |x_i - c| - r >= 0 at the body's surface nodes (Pi the incremental
+// potential and f_int its gradient's internal part, inertia included, with a time
+// step: below),
 //   f_int(u) - f = sum_i lambda_i n_i,  lambda_i >= 0,  g_i >= 0,  lambda_i g_i = 0,
 // by a primal-dual active set (Hintermueller, Ito and Kunisch 2002) inside Newton:
 // each iteration linearises the gaps of the active nodes at their current positions
@@ -42,7 +44,9 @@
 // (backward) Euler with the lumped mass M, each step the minimiser of the
 // incremental potential (Kane et al. 2000; Gast et al. 2015; docs/equations.md):
 //   M / h^2 (u - u_n - h v_n) + f_int(u) = f,   v_{n+1} = (u - u_n) / h,
-// solved by the same Newton iteration with M / h^2 added to the tangent's diagonal.
+// solved by the same Newton iteration with M / h^2 added to the tangent's diagonal,
+// a sphere's contact included (the step ends on the sphere where the static solve's
+// increment would: the sphere moves with the step's increments).
 #include <Eigen/CholmodSupport>
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -119,7 +123,7 @@ class NewtonSolve : public ElasticSolve {
   }
 
   bool linear() const override { return false; }
-  bool takes_spheres() const override { return o_.time_step == 0; }
+  bool takes_spheres() const override { return true; }
   const Eigen::VectorXd* internal_force() const override { return &f_int_solution_; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
@@ -193,11 +197,13 @@ class NewtonSolve : public ElasticSolve {
         }
       }
     }
+    // The internal force the reactions come from, inertia included: assembled around
+    // the step's start (u_n, v_n), before they move on to this step's.
+    assemble(state, false);
+    f_int_solution_ = f_int_;
     if (o_.time_step > 0) velocity_ = (state - u_converged_) / o_.time_step;
     u = state;
     u_converged_ = state;
-    assemble(state, false);
-    f_int_solution_ = f_int_;
     f_converged_ = f_free;
     if (spheres_) record_contacts(state);
   }

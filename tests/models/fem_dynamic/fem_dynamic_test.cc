@@ -2,8 +2,8 @@
 // numerics/elasticity/newton_solve.cc) against what it must equal: with the linear
 // law, the linear recursion (M / h^2 + K) u_{n+1} = f + M / h^2 (u_n + h v_n)
 // assembled here from K and a lumped mass computed here; with a nonlinear law, the
-// static Newton answer once it has settled; and, as a model, reactions that balance
-// the load at the steady state.
+// static Newton answer once it has settled, a rigid sphere's contact included; and,
+// as a model, reactions that balance the load at the steady state.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -13,6 +13,7 @@
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "load_mapping.h"
+#include "sphere_obstacles.h"
 #include "test_support.h"
 
 namespace tb {
@@ -49,7 +50,8 @@ TEST(FemDynamic, WithTheLinearLawItIsTheLinearImplicitEulerRecursion) {
                                v = Eigen::VectorXd::Zero(c.body.free_dofs());
   const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 1)};
   c.loads.assemble(force, f);
-  double worst = 0;
+  double worst = 0, worst_balance = 0;
+  Eigen::VectorXd f_int_free;
   for (int step = 0; step < 5; ++step) {
     solve->solve(c.loads, force, u);
     const Eigen::VectorXd rhs = f + (mass.array() / (h * h) * (expected + h * v).array()).matrix();
@@ -58,8 +60,14 @@ TEST(FemDynamic, WithTheLinearLawItIsTheLinearImplicitEulerRecursion) {
     expected = next;
     c.body.to_free(u, u_free);
     worst = std::max(worst, (u_free - expected).norm() / expected.norm());
+    // The internal force the reactions are read from carries this step's inertia,
+    // M (u_{n+1} - u_n - h v_n) / h^2: on the free dofs it balances the load. (Assembled
+    // around the next step's start it would carry -M v_{n+1} / h instead.)
+    c.body.to_free(*solve->internal_force(), f_int_free);
+    worst_balance = std::max(worst_balance, (f_int_free - f).norm() / f.norm());
   }
   EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst_balance, 1e-9);
   RecordProperty("worst_relative_difference_5_steps", ::testing::PrintToString(worst));
 }
 
@@ -82,6 +90,65 @@ TEST(FemDynamic, ANeoHookeanBodySettlesToTheStaticNewtonAnswer) {
   early->solve(c.loads, force, previous);
   EXPECT_GT((previous - u_static).norm(), 0.1 * u_static.norm());
   RecordProperty("steps_to_settle", steps);
+}
+
+/// A rigid sphere pressed 5 mm into the cube's top and held: every implicit-Euler step
+/// satisfies the contact's KKT conditions (no node inside, compressive forces along
+/// the normals), the first 10 ms step is far from the static answer (the top has not
+/// yet moved the whole way), and once settled the state and the sphere's force are the
+/// static Newton contact's on the same mesh.
+TEST(FemDynamic, WithASphereEveryStepIsInContactAndItSettlesToTheStaticNewtonContact) {
+  const CubeBody c;
+  const double R = 0.03;
+  Eigen::MatrixX3d centre(1, 3);
+  centre << 0, 0, 0.1 + R - 0.005;
+  const Eigen::VectorXd radius = Eigen::VectorXd::Constant(1, R);
+  const Eigen::VectorXd no_force = Eigen::VectorXd::Zero(c.body.free_dofs());
+  const auto with_sphere = [&](std::unique_ptr<ElasticSolve> s) {
+    s->enable_spheres(c.h.fine_surface_to_volume);
+    s->spheres()->set(centre, radius);
+    return s;
+  };
+  // The worst KKT violation of the contact the solve just recorded.
+  const auto kkt_violation = [&](ElasticSolve& s, const Eigen::VectorXd& u) {
+    double worst = s.spheres()->penetration()[0] / R;
+    for (const auto& [node, force] : s.spheres()->node_forces()) {
+      const Eigen::Vector3d x = c.body.mesh().V.row(node).transpose() + u.segment<3>(3 * node);
+      const Eigen::Vector3d n = (x - centre.row(0).transpose()).normalized();
+      worst = std::max(worst, (force - force.dot(n) * n).norm() / std::max(force.norm(), 1e-300));  // along n
+      worst = std::max(worst, -force.dot(n));                                                        // compressive
+      worst = std::max(worst, std::abs((x - centre.row(0).transpose()).norm() - R) / R);             // on the sphere
+    }
+    return worst;
+  };
+  auto statically = with_sphere(testing::make_solve(c.body, {{"solver", "newton"}}));
+  Eigen::VectorXd u_static;
+  statically->solve(no_force, nullptr, u_static);
+  const Eigen::Vector3d force_static = statically->spheres()->forces()[0];
+  ASSERT_GT(force_static.z(), 0.01) << "the sphere presses the top";
+
+  auto early = with_sphere(make_implicit_euler_solve(c.body, "neo_hookean", 1e-12, 0.01));
+  Eigen::VectorXd u_early;
+  early->solve(no_force, nullptr, u_early);
+  EXPECT_LT(kkt_violation(*early, u_early), 1e-9);
+  EXPECT_GT((u_early - u_static).norm(), 0.1 * u_static.norm()) << "the first 10 ms step is a transient";
+
+  // A step long against the cube's slowest period settles it within a few steps.
+  auto settling = with_sphere(make_implicit_euler_solve(c.body, "neo_hookean", 1e-12, 0.5));
+  Eigen::VectorXd u, previous;
+  int steps = 0;
+  double worst_kkt = 0;
+  do {
+    previous = u;
+    settling->solve(no_force, nullptr, u);
+    worst_kkt = std::max(worst_kkt, kkt_violation(*settling, u));
+  } while (++steps < 100 && (steps < 2 || (u - previous).norm() > 1e-13 * u.norm()));
+  EXPECT_LT(steps, 100);
+  EXPECT_LT(worst_kkt, 1e-9);
+  EXPECT_LT((u - u_static).norm(), 1e-8 * u_static.norm());
+  EXPECT_LT((settling->spheres()->forces()[0] - force_static).norm(), 1e-8 * force_static.norm());
+  RecordProperty("steps_to_settle", steps);
+  RecordProperty("sphere_force_z", ::testing::PrintToString(force_static.z()));
 }
 
 TEST(FemDynamic, AsAModelItIsDynamicAndItsReactionsBalanceTheLoadOnceSettled) {
