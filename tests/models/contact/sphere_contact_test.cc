@@ -540,7 +540,7 @@ TEST(SphereContact, BadSpheresAreOneLineErrorsNamingTheKey) {
 /// one-line error naming the tool before anything is solved.
 TEST(NewtonSphereContact, BadSpheresAreOneLineErrorsInTheNonlinearModels) {
   const std::vector<std::pair<std::string, nlohmann::json>> cases = {
-      {"fem", {{"solver", "newton"}}}, {"vbd", {}}, {"xpbd_neo", {}}, {"pd", {}}};
+      {"fem", {{"solver", "newton"}}}, {"fem_dynamic", {}}, {"vbd", {}}, {"xpbd_neo", {}}, {"pd", {}}};
   for (const auto& [model, parameters] : cases) {
     const ModelInfo& info = find_model(model);
     for (const Tool& bad : {Tool::sphere({0, 0, 0.12}, 0.05, "tools[0]"),
