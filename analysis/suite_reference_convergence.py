@@ -308,7 +308,7 @@ def make(root, out, data_flag, errors_path):
         p = parse(scenario)
         if p and (scenario, case) not in done and proc.get("status") != "ok":
             how = UNFINISHED.get(proc["status"], proc["status"])
-            unfinished.append(f"- {p[0]} level {p[1]} P{p[2]}: {how} after {float(proc['wall_s']):.0f} s "
+            unfinished.append(f"- {p[0]} level {p[1]} P{p[2]} (case {case}): {how} after {float(proc['wall_s']):.0f} s "
                               f"({proc['ranks']} rank(s), load average {proc['load_before']} / {proc['load_after']})")
     unfinished_note = ("\n\nRun and not finished (no results; the wall time it cost):\n" + "\n".join(unfinished)
                        if unfinished else "")

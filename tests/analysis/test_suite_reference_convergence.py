@@ -87,7 +87,7 @@ class SuiteReferenceConvergence(unittest.TestCase):
                 md = f.read()
             self.assertIn("observed p = 2.00 (three levels)", md)
             self.assertIn("load-point u_z (mm) 22 ± 8", md)
-            self.assertIn("- cube_pull_disc level 1 P2: stopped at TIMEOUT after 600 s (2 rank(s), load average 3.0 / 2.5)", md)
+            self.assertIn("- cube_pull_disc level 1 P2 (case neo-p2): stopped at TIMEOUT after 600 s (2 rank(s), load average 3.0 / 2.5)", md)
             with open(os.path.join(tmp, "tables", "suite_reference_cost.md")) as f:
                 self.assertIn("| cube_pull_disc | 2 | P1 | 64000 | 1 | 7 | 0.5 | 1.0 | 1.5 | 0.10 | 1.0 / 2.0 |", f.read())
             # The leaderboard's reader takes the file as written.
