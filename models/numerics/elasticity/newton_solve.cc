@@ -45,8 +45,8 @@
 // incremental potential (Kane et al. 2000; Gast et al. 2015; docs/equations.md):
 //   M / h^2 (u - u_n - h v_n) + f_int(u) = f,   v_{n+1} = (u - u_n) / h,
 // solved by the same Newton iteration with M / h^2 added to the tangent's diagonal,
-// a sphere's contact included (the step ends on the sphere where the static solve's
-// increment would: the sphere moves with the step's increments).
+// a sphere's contact included (the sphere moves through the step's load increments
+// as through the static solve's; the last one is the whole step).
 #include <Eigen/CholmodSupport>
 #include <Eigen/Cholesky>
 #include <algorithm>
