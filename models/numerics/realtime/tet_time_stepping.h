@@ -441,6 +441,9 @@ class TetTimeStepper : public ElasticSolve {
       return std::numeric_limits<double>::infinity();  // an inverted tet under a law undefined there
     }
     const double scale = std::max({f_ext_.norm(), (r + f_ext_).cwiseProduct(free_).norm(), 1e-300});
+    // A sphere's forces on the body are external forces too: at a static equilibrium
+    // in contact f_int balances f_ext plus them.
+    for (const NodeContact& c : contacts_) r.col(c.node) -= c.force;
     return r.cwiseProduct(free_).norm() / scale;
   }
 

@@ -219,6 +219,13 @@ TEST_P(SettledStepper, EqualsTheStaticNewtonContactUnderASphere) {
   EXPECT_LE(frames, s.max_frames) << s.name;
   EXPECT_LT(error, tolerance) << s.name;
   EXPECT_LT(force_error, tolerance) << s.name;
+  // The report's static residual counts the sphere's forces as external: settled in
+  // contact, VBD and PD are at the law's equilibrium (it read 1.0 when it left them out).
+  const double residual = stepper->report()["static_residual"].get<double>();
+  std::printf("%s sphere: static residual %.2e\n", s.name.c_str(), residual);
+  if (s.name != "xpbd_neo") {
+    EXPECT_LT(residual, s.tolerance) << s.name;
+  }
   EXPECT_GT(expected_force.z(), 0) << "the tissue pushes the sphere up";
   RecordProperty(s.name + "_sphere_frames", frames);
   RecordProperty(s.name + "_sphere_relative_error", ::testing::PrintToString(error));
