@@ -427,8 +427,9 @@ class TetTimeStepper : public ElasticSolve {
           reaction_force_(3 * v + i) += mass_(v) * (x_(i, v) - x_n_(i, v) - h * v_n_held_(i, v)) / (h * h);
   }
 
-  /// |f_ext - f_int(x)| over the free components, relative to the larger of |f_ext|
-  /// and |f_int|: 0 at a static equilibrium, what a settled state is measured by.
+  /// |f_ext + f_contact - f_int(x)| over the free components (f_contact: the spheres'
+  /// forces of the last frame), relative to the larger of |f_ext| and |f_int|: 0 at a
+  /// static equilibrium, what a settled state is measured by.
   double static_residual() const {
     Eigen::Matrix3Xd r = -f_ext_;
     try {
