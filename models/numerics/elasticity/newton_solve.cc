@@ -32,8 +32,10 @@
 // (the normal moves with the node; Wriggers 2006, ch. 5-6) and solves
 //   (K - sum_a lambda_a (I - n_a n_a^T) / |x_a - c|) du = -(f_int - f) + N^T lambda,
 //   N du = -g_A,
-// for (du, lambda) by the Schur complement S = N K~^-1 N^T on the tangent's factor;
-// then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
+// for (du, lambda) by the Schur complement S = N K~^-1 N^T, K~^-1 applied on the law's
+// Cholesky factor with the curvature, a rank-2 term per active node, by the
+// Sherman-Morrison-Woodbury identity (low_rank_downdate.h): the factor stays
+// supernodal and definite where the curvature makes K~ indefinite; then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
 // moves with the load increments (docs/equations.md, "Contact with a rigid sphere").
 // A set entered again without the merit halving ends the increment (the update
 // cycles); where increments halved 12 times still fail, a fold of the quasi-static
@@ -56,6 +58,7 @@
 
 #include "elastic_solve.h"
 #include "lame_parameters.h"
+#include "low_rank_downdate.h"
 #include "material_laws.h"
 #include "tet_element.h"
 
@@ -384,9 +387,14 @@ class NewtonSolve : public ElasticSolve {
   /// Factorises the free block of the tangent last assembled; false where it is not
   /// positive definite.
   bool factorize_tangent() {
-    for (size_t k = 0; k < free_from_full_.size(); ++k) K_free_.valuePtr()[k] = K_full_.valuePtr()[free_from_full_[k]];
+    copy_free_tangent();
     cholesky_.factorize(K_free_);
     return cholesky_.info() == Eigen::Success;
+  }
+
+  /// K_free_: the free block of the tangent last assembled (K_full_).
+  void copy_free_tangent() {
+    for (size_t k = 0; k < free_from_full_.size(); ++k) K_free_.valuePtr()[k] = K_full_.valuePtr()[free_from_full_[k]];
   }
 
   /// f_int (3 #V) and, with `tangent`, the tangent's values on K's pattern at u.
@@ -469,24 +477,33 @@ class NewtonSolve : public ElasticSolve {
       }
       if (it == max_iterations) return false;
       ++iterations_;
-      if (contact_) add_contact_curvature(u);
+      // The contact's curvature: in the tangent itself where pseudo-time's shift must
+      // make the whole of it definite; otherwise a low-rank downdate of the law's
+      // factor (prepare_curvature), which keeps that factor supernodal and positive
+      // definite where the curvature makes the tangent indefinite (a node pressed hard
+      // on the sphere's pole: lambda / |x - c| above its tangential stiffness).
+      if (contact_ && pseudo_transient) add_contact_curvature(u);
       indefinite_ = false;
+      curvature_.prepare(Eigen::MatrixXd(), Eigen::MatrixXd());
       if (pseudo_transient) {
         if (!factorize_shifted_tangent()) return false;
       } else if (!factorize_tangent()) {
-        // The contact's curvature made the tangent indefinite (a node pressed hard on the
-        // sphere's pole: lambda / |x - c| above its tangential stiffness): LDL^T, no
-        // pivoting, which keeps Newton's quadratic rate; without the curvature (a
-        // quasi-Newton step) if that fails too.
+        // The law's tangent itself is not positive definite (an element compressed
+        // past its stability): with contact, the tangent and curvature by LDL^T, no
+        // pivoting, which keeps Newton's quadratic rate.
         if (!contact_ || active_.empty()) return false;
-        if (!ldlt_analysed_) ldlt_.analyzePattern(K_free_);  // K_free_ holds the tangent factorize_tangent() copied
+        add_contact_curvature(u);
+        copy_free_tangent();
+        if (!ldlt_analysed_) ldlt_.analyzePattern(K_free_);
         ldlt_analysed_ = true;
         ldlt_.factorize(K_free_);
-        indefinite_ = ldlt_.info() == Eigen::Success;
-        if (!indefinite_ && (!assemble(u, true) || !factorize_tangent())) return false;
+        if (ldlt_.info() != Eigen::Success) return false;
+        indefinite_ = true;
         ++indefinite_factorisations_;
+      } else if (contact_) {
+        prepare_curvature(u);
       }
-      du_free = indefinite_ ? Eigen::VectorXd(ldlt_.solve(-r)) : Eigen::VectorXd(cholesky_.solve(-r));
+      du_free = solve_tangent(Eigen::VectorXd(-r));
       if (contact_ && !active_.empty()) solve_multipliers(du_free);
       du_full = Eigen::VectorXd::Zero(body_.dofs());
       body_.to_full(du_free, du_full);
@@ -695,6 +712,53 @@ class NewtonSolve : public ElasticSolve {
     }
   }
 
+  /// The curvature's downdate for this iteration (after the law's tangent, without
+  /// it, was factorised): lambda_a (I - n_a n_a^T) / |x_a - c| = U_a U_a^T with U_a's two
+  /// columns sqrt(lambda_a / |x_a - c|) times an orthonormal basis of the tangent plane,
+  /// on the free dofs. Where K~ is singular, the step goes without the curvature (a
+  /// quasi-Newton step).
+  void prepare_curvature(const Eigen::VectorXd& u) {
+    curvature_columns_.setZero(body_.free_dofs(), 2 * static_cast<Eigen::Index>(active_.size()));
+    Eigen::Index k = 0;
+    for (size_t a = 0; a < active_.size(); ++a) {
+      const ActivePair& p = active_[a];
+      if (!(p.lambda > 0)) continue;
+      const int node = node_of(p.vertex);
+      const double distance = (position(u, node) - centres_now_.row(p.sphere).transpose()).norm();
+      if (!(distance > 0)) continue;
+      const Eigen::Vector3d& n = normal_[a];
+      Eigen::Index axis = 0;
+      n.cwiseAbs().minCoeff(&axis);  // the axis least along n: its cross product with n is far from 0
+      const Eigen::Vector3d t1 = n.cross(Eigen::Vector3d::Unit(axis)).normalized(), t2 = n.cross(t1);
+      const double scale = std::sqrt(p.lambda / distance);
+      for (const Eigen::Vector3d& t : {t1, t2}) {
+        for (int c = 0; c < 3; ++c) {
+          const int free = body_.free_index(3 * node + c);
+          if (free >= 0) curvature_columns_(free, k) = scale * t(c);
+        }
+        ++k;
+      }
+    }
+    curvature_columns_.conservativeResize(Eigen::NoChange, k);
+    Eigen::MatrixXd W = cholesky_.solve(curvature_columns_);
+    if (!curvature_.prepare(curvature_columns_, std::move(W))) {
+      curvature_.prepare(Eigen::MatrixXd(), Eigen::MatrixXd());
+      return;
+    }
+    if (curvature_.negative_eigenvalues() > 0) ++indefinite_factorisations_;
+  }
+
+  /// K~^-1 B for this iteration's tangent: its LDL^T factor, or the law's Cholesky
+  /// factor with the curvature's downdate (none under pseudo-time, whose shifted
+  /// tangent holds it).
+  template <class Matrix>
+  Matrix solve_tangent(const Matrix& B) const {
+    if (indefinite_) return ldlt_.solve(B);
+    Matrix X = cholesky_.solve(B);
+    curvature_.apply(X);
+    return X;
+  }
+
   /// du_free in: K~^-1 (-r); out: with the active gaps' linearised constraints,
   /// du0 + Y lambda_new, Y = K~^-1 N^T, S lambda_new = -g - N du0, S = N Y.
   void solve_multipliers(Eigen::VectorXd& du_free) {
@@ -707,10 +771,7 @@ class NewtonSolve : public ElasticSolve {
         if (free >= 0) Nt_(free, a) = normal_[static_cast<size_t>(a)](c);
       }
     }
-    if (indefinite_)
-      Y_ = ldlt_.solve(Nt_);
-    else
-      Y_ = cholesky_.solve(Nt_);
+    Y_ = solve_tangent(Nt_);
     const Eigen::MatrixXd S = Nt_.transpose() * Y_;
     lambda_new_ = S.ldlt().solve(-gap_ - Nt_.transpose() * du_free);
     du_free += Y_ * lambda_new_;
@@ -805,10 +866,13 @@ class NewtonSolve : public ElasticSolve {
   std::vector<int> free_from_full_;  ///< per value of K_free_, its place in K_full_'s values
   Eigen::SparseMatrix<double> K_full_, K_free_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky_;
-  Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;  ///< the contact's indefinite tangent
+  /// The contact's tangent where the law's own is not positive definite.
+  Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
   bool ldlt_analysed_ = false;
   bool indefinite_ = false;  ///< whether this iteration's tangent was factorised by ldlt_
-  long indefinite_factorisations_ = 0;
+  long indefinite_factorisations_ = 0;  ///< iterations whose tangent, the curvature included, was indefinite
+  LowRankDowndate curvature_;           ///< the contact's curvature on cholesky_'s factor (prepare_curvature)
+  Eigen::MatrixXd curvature_columns_;
   Eigen::VectorXd f_int_, f_int_solution_, u_converged_, f_converged_;
   Eigen::VectorXd inertia_;    ///< implicit Euler: the lumped mass over h^2, per dof
   Eigen::VectorXd velocity_;   ///< implicit Euler: v_n
