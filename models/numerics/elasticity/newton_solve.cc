@@ -35,12 +35,12 @@
 // for (du, lambda) by the Schur complement S = N K~^-1 N^T, K~^-1 applied on the law's
 // Cholesky factor with the curvature, a rank-2 term per active node, by the
 // Sherman-Morrison-Woodbury identity (low_rank_downdate.h): the factor stays
-// supernodal and definite where the curvature makes K~ indefinite; then nodes with lambda < 0 leave the set and penetrating ones join. The sphere
-// moves with the load increments (docs/equations.md, "Contact with a rigid sphere").
-// A set entered again without the merit halving ends the increment (the update
-// cycles); where increments halved 12 times still fail, a fold of the quasi-static
-// path, the frame is finished by pseudo-transient continuation (Kelley and Keyes
-// 1998; below).
+// supernodal and definite where the curvature makes K~ indefinite; then nodes with
+// lambda < 0 leave the set and penetrating ones join. The sphere moves with the load
+// increments (docs/equations.md, "Contact with a rigid sphere"). A set entered again
+// without the merit halving ends the increment (the update cycles); where increments
+// halved 12 times still fail, a fold of the quasi-static path, the frame is finished
+// by pseudo-transient continuation (Kelley and Keyes 1998; below).
 //
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
@@ -739,6 +739,7 @@ class NewtonSolve : public ElasticSolve {
         ++k;
       }
     }
+    if (k == 0) return;  // no node pressed yet (a joining node's lambda is 0)
     curvature_columns_.conservativeResize(Eigen::NoChange, k);
     Eigen::MatrixXd W = cholesky_.solve(curvature_columns_);
     if (!curvature_.prepare(curvature_columns_, std::move(W))) {
