@@ -696,20 +696,28 @@ class NewtonSolve : public ElasticSolve {
     return residual_c_.norm() + stiffness_scale_ * gap_.norm();
   }
 
-  /// Subtracts lambda_a (I - n_a n_a^T) / |x_a - c| from each active node's diagonal
-  /// block of the tangent last assembled: the gap's curvature (the normal turns as
-  /// the node slides), which makes the iteration Newton's on the KKT system.
-  void add_contact_curvature(const Eigen::VectorXd& u) {
+  /// Calls visit(node, n_a, lambda_a / |x_a - c|) for each active pair pressed on its
+  /// sphere (lambda_a > 0) at u: the gap's curvature there is that factor times
+  /// (I - n_a n_a^T) (the normal turns as the node slides).
+  template <class Visit>
+  void for_each_curvature(const Eigen::VectorXd& u, Visit visit) const {
     for (size_t a = 0; a < active_.size(); ++a) {
       const ActivePair& p = active_[a];
       if (!(p.lambda > 0)) continue;
       const int node = node_of(p.vertex);
       const double distance = (position(u, node) - centres_now_.row(p.sphere).transpose()).norm();
-      if (!(distance > 0)) continue;
-      const Eigen::Matrix3d H = p.lambda / distance * (Eigen::Matrix3d::Identity() - normal_[a] * normal_[a].transpose());
+      if (distance > 0) visit(node, normal_[a], p.lambda / distance);
+    }
+  }
+
+  /// Subtracts the gap's curvature from each pressed node's diagonal block of the
+  /// tangent last assembled, which makes the iteration Newton's on the KKT system.
+  void add_contact_curvature(const Eigen::VectorXd& u) {
+    for_each_curvature(u, [&](int node, const Eigen::Vector3d& n, double factor) {
+      const Eigen::Matrix3d H = factor * (Eigen::Matrix3d::Identity() - n * n.transpose());
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) K_full_.valuePtr()[value_index(3 * node + i, 3 * node + j)] -= H(i, j);
-    }
+    });
   }
 
   /// The curvature's downdate for this iteration (after the law's tangent, without
@@ -720,17 +728,11 @@ class NewtonSolve : public ElasticSolve {
   void prepare_curvature(const Eigen::VectorXd& u) {
     curvature_columns_.setZero(body_.free_dofs(), 2 * static_cast<Eigen::Index>(active_.size()));
     Eigen::Index k = 0;
-    for (size_t a = 0; a < active_.size(); ++a) {
-      const ActivePair& p = active_[a];
-      if (!(p.lambda > 0)) continue;
-      const int node = node_of(p.vertex);
-      const double distance = (position(u, node) - centres_now_.row(p.sphere).transpose()).norm();
-      if (!(distance > 0)) continue;
-      const Eigen::Vector3d& n = normal_[a];
+    for_each_curvature(u, [&](int node, const Eigen::Vector3d& n, double factor) {
       Eigen::Index axis = 0;
       n.cwiseAbs().minCoeff(&axis);  // the axis least along n: its cross product with n is far from 0
       const Eigen::Vector3d t1 = n.cross(Eigen::Vector3d::Unit(axis)).normalized(), t2 = n.cross(t1);
-      const double scale = std::sqrt(p.lambda / distance);
+      const double scale = std::sqrt(factor);
       for (const Eigen::Vector3d& t : {t1, t2}) {
         for (int c = 0; c < 3; ++c) {
           const int free = body_.free_index(3 * node + c);
@@ -738,7 +740,7 @@ class NewtonSolve : public ElasticSolve {
         }
         ++k;
       }
-    }
+    });
     if (k == 0) return;  // no node pressed yet (a joining node's lambda is 0)
     curvature_columns_.conservativeResize(Eigen::NoChange, k);
     Eigen::MatrixXd W = cholesky_.solve(curvature_columns_);
