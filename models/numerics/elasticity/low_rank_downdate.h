@@ -37,6 +37,13 @@ class LowRankDowndate {
     return true;
   }
 
+  /// No term: apply() leaves K^-1 B as it is.
+  void clear() {
+    U_.resize(0, 0);
+    W_.resize(0, 0);
+    negative_ = 0;
+  }
+
   /// X = K^-1 B in, (K - U U^T)^-1 B out (one column or many).
   template <class Matrix>
   void apply(Matrix& X) const {

@@ -484,7 +484,7 @@ class NewtonSolve : public ElasticSolve {
       // on the sphere's pole: lambda / |x - c| above its tangential stiffness).
       if (contact_ && pseudo_transient) add_contact_curvature(u);
       indefinite_ = false;
-      curvature_.prepare(Eigen::MatrixXd(), Eigen::MatrixXd());
+      curvature_.clear();
       if (pseudo_transient) {
         if (!factorize_shifted_tangent()) return false;
       } else if (!factorize_tangent()) {
@@ -745,7 +745,7 @@ class NewtonSolve : public ElasticSolve {
     curvature_columns_.conservativeResize(Eigen::NoChange, k);
     Eigen::MatrixXd W = cholesky_.solve(curvature_columns_);
     if (!curvature_.prepare(curvature_columns_, std::move(W))) {
-      curvature_.prepare(Eigen::MatrixXd(), Eigen::MatrixXd());
+      curvature_.clear();
       return;
     }
     if (curvature_.negative_eigenvalues() > 0) ++indefinite_factorisations_;

@@ -74,6 +74,13 @@ TEST(LowRankDowndate, NoTermLeavesTheSolveAsItIs) {
   EXPECT_EQ(x, before);
   EXPECT_EQ(downdate.rank(), 0);
   EXPECT_EQ(downdate.negative_eigenvalues(), 0);
+  // clear() after a term: the solve is K's again.
+  ASSERT_TRUE(downdate.prepare(Eigen::MatrixXd::Ones(10, 1), factor.solve(Eigen::MatrixXd::Ones(10, 1))));
+  downdate.clear();
+  x = before;
+  downdate.apply(x);
+  EXPECT_EQ(x, before);
+  EXPECT_EQ(downdate.rank(), 0);
 }
 
 TEST(LowRankDowndate, ASingularDowndateIsRefused) {
