@@ -22,6 +22,7 @@
 
 #include "deformation_gradient.h"
 #include "lame_parameters.h"
+#include "lane_math.h"
 #include "node_terms.h"
 
 namespace tb {
@@ -89,6 +90,26 @@ struct NeoHookean {
     r.stiffness.diagonal().array() += mu * g.squaredNorm();
     r.J = J;
     return r;
+  }
+
+  /// node_terms on a batch of tets, one per lane (T: a lanes vector of doubles,
+  /// pbd/lane_math.h; Vertex Block Descent's batched sweep, vbd_visit_blocks.h), from F,
+  /// its cofactor C (both [row][column]) and J = det F, which the caller has checked
+  /// positive in every lane: force = P(F) g, c = cof(F) g, and the node stiffness as
+  /// s_cc c c^T + s_I I (s_I = mu |g|^2). The formulas of node_terms; ln J by
+  /// lanes::log (within 1 ulp of std::log).
+  template <class T>
+  [[gnu::always_inline]] void lane_node_terms(const T (&F)[3][3], const T (&C)[3][3], const T& J, const T (&g)[3],
+                                              T (&force)[3], T (&c)[3], T& s_cc, T& s_I) const {
+    namespace L = pbd::lanes;
+    const T ln_J = L::log(J), inv_J = L::splat<T>(1) / J, mu_ = L::splat<T>(mu), lambda_ = L::splat<T>(lambda);
+    const T a = (lambda_ * ln_J - mu_) * inv_J;
+    for (int i = 0; i < 3; ++i) {
+      c[i] = C[i][0] * g[0] + C[i][1] * g[1] + C[i][2] * g[2];
+      force[i] = mu_ * (F[i][0] * g[0] + F[i][1] * g[1] + F[i][2] * g[2]) + a * c[i];
+    }
+    s_cc = (lambda_ * (L::splat<T>(1) - ln_J) + mu_) * inv_J * inv_J;
+    s_I = mu_ * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   }
 };
 

@@ -2,10 +2,12 @@
 
 #include <array>
 
-#include "cholesky3.h"
-#include "node_terms.h"
 #include <sstream>
 #include <stdexcept>
+
+#include "cholesky3.h"
+#include "node_terms.h"
+#include "vbd_visit_blocks.h"
 
 
 namespace tb {
@@ -18,6 +20,28 @@ const char* start_name(VbdStart s) {
     case VbdStart::Adaptive: return "adaptive";
   }
   return "";
+}
+
+const char* kernels_name(VbdKernels k) {
+  switch (k) {
+    case VbdKernels::Auto: return "auto";
+    case VbdKernels::Avx2: return "avx2";
+    case VbdKernels::Sse2: return "sse2";
+    case VbdKernels::Scalar: return "scalar";
+  }
+  return "";
+}
+
+/// The kernels a solve runs: `asked`, or for Auto the best this CPU and the law allow.
+/// Throws std::invalid_argument for lanes the CPU or the law does not have.
+VbdKernels kernels_to_run(VbdKernels asked, bool law_has_lanes, const std::string& law) {
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (asked == VbdKernels::Auto) return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
+  if (asked != VbdKernels::Scalar && !law_has_lanes)
+    throw std::invalid_argument(std::string("vbd: kernels ") + kernels_name(asked) + " need a law with batched node " +
+                                "terms (neo_hookean); material_law " + law + " has none");
+  if (asked == VbdKernels::Avx2 && !avx2) throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
+  return asked;
 }
 
 /// One tet around a vertex as the vertex's update reads it. The visits are stored
@@ -45,7 +69,12 @@ class VbdSolve : public TetTimeStepper<Law> {
 
  public:
   VbdSolve(const ElasticBody& body, const Law& law, const VbdSettings& settings, bool defined_when_inverted)
-      : Base(body, law, settings.stepping, "vbd"), o_(settings), keep_positive_(!defined_when_inverted) {
+      : Base(body, law, settings.stepping, "vbd"),
+        o_(settings),
+        keep_positive_(!defined_when_inverted),
+        // The lanes' kernel checks det F > 0 as a law undefined there needs (vbd_visit_blocks.h).
+        kernels_(kernels_to_run(o_.kernels, HasLaneNodeTerms<Law>::value && keep_positive_, o_.law)),
+        batched_(kernels_ != VbdKernels::Scalar) {
     if (o_.iterations < 1) throw std::invalid_argument("vbd: iterations must be at least 1");
     if (!(o_.chebyshev_rho >= 0 && o_.chebyshev_rho < 1))
       throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
@@ -113,6 +142,7 @@ class VbdSolve : public TetTimeStepper<Law> {
             {"iterations", o_.iterations},
             {"chebyshev_rho", o_.chebyshev_rho},
             {"start", start_name(o_.start)},
+            {"kernels", kernels_name(kernels_)},
             {"vertex_colours", colours_.size()},
             {"chebyshev_restarts", restarts_},
             {"stages_last_frame", stages_}};
@@ -125,9 +155,16 @@ class VbdSolve : public TetTimeStepper<Law> {
   void sweeps(double h2) {
     prev1_ = prev2_ = x_;
     double omega = 1;
-    auto update = [this, h2](int p) { update_vertex(p, h2); };
+    auto scalar = [this, h2](int p) { update_vertex(p, h2); };
+    auto avx2 = [this, h2](int p) { update_vertex_avx2(p, h2); };
+    auto sse2 = [this, h2](int p) { update_vertex_sse2(p, h2); };
     for (int k = 1; k <= o_.iterations; ++k) {
-      this->sweep(colours_, update, &shares_);
+      if (kernels_ == VbdKernels::Avx2)
+        this->sweep(colours_, avx2, &shares_);
+      else if (kernels_ == VbdKernels::Sse2)
+        this->sweep(colours_, sse2, &shares_);
+      else
+        this->sweep(colours_, scalar, &shares_);
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
     }
   }
@@ -136,12 +173,14 @@ class VbdSolve : public TetTimeStepper<Law> {
   /// (TetGen's meshes have about 20-30; a vertex in more takes the slower path), and
   /// the smallest det F a step may leave.
   static constexpr int kCachedTets = 96;
+  static constexpr int kCachedBlocks = kCachedTets / kVisitLanes;
   static constexpr double kMinDet = 1e-9;
 
   /// The sweep's data: the vertices in sweep order (order_), their tets' visits
-  /// (visits_, vertex order_[p]'s from visit_begin_[p] to visit_begin_[p + 1]), the
-  /// colour classes as sweep positions, and the thread team's shares of each class by
-  /// tet count.
+  /// (vertex order_[p]'s from visit_begin_[p] to visit_begin_[p + 1]: one by one in
+  /// visits_ for the scalar kernels, four to a block from block_begin_[p] in blocks_
+  /// for the batched ones), the colour classes as sweep positions, and the thread
+  /// team's shares of each class by tet count.
   void lay_out_visits(const Colouring& by_vertex) {
     const VertexTets around = vertex_tets(T_, static_cast<int>(x_.cols()));
     visit_begin_.push_back(0);
@@ -164,8 +203,29 @@ class VbdSolve : public TetTimeStepper<Law> {
           visits_.push_back(visit);
         }
         visit_begin_.push_back(static_cast<int>(visits_.size()));
+        if (batched_) {  // this vertex's visits into blocks of four; only the blocks are kept
+          const int first = visit_begin_[visit_begin_.size() - 2];
+          block_begin_.push_back(static_cast<int>(blocks_.size()));
+          for (int k = first; k < visit_begin_.back(); k += kVisitLanes) {
+            VisitBlock block;
+            for (int l = 0; l < kVisitLanes; ++l) {
+              const bool real = k + l < visit_begin_.back();
+              const TetVisit* visit = real ? &visits_[static_cast<size_t>(k + l)] : nullptr;
+              for (int node = 0; node < 4; ++node)
+                for (int i = 0; i < 3; ++i) block.g[node][i][l] = real ? visit->g(i, node) : 0;
+              block.volume[l] = real ? visit->volume : 0;
+              block.empty[l] = real ? 0 : 1;
+              for (int j = 0; j < 3; ++j) block.other[j][l] = real ? visit->other[static_cast<size_t>(j)] : v;
+            }
+            blocks_.push_back(block);
+          }
+        }
       }
       colours_.push_back(std::move(positions));
+    }
+    if (batched_) {
+      block_begin_.push_back(static_cast<int>(blocks_.size()));
+      visits_ = {};
     }
     shares_ = this->shares_by_cost(colours_, [this](int p) {
       return static_cast<double>(visit_begin_[static_cast<size_t>(p) + 1] - visit_begin_[static_cast<size_t>(p)]);
@@ -177,13 +237,14 @@ class VbdSolve : public TetTimeStepper<Law> {
     return tet_F(visit.g, xv, x_.col(visit.other[0]), x_.col(visit.other[1]), x_.col(visit.other[2]));
   }
 
-  /// One Newton step on the block of vertex order_[p] of the incremental potential.
+  /// One Newton step on the block of vertex order_[p] of the incremental potential,
+  /// its tets summed one at a time.
   void update_vertex(int p, double h2) {
     const int v = order_[static_cast<size_t>(p)];
-    const double m = mass_(v) / h2;
     const Eigen::Vector3d from = x_.col(v);
-    Eigen::Vector3d gradient = m * (from - y_.col(v));
-    Eigen::Matrix3d H = m * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d gradient;
+    Eigen::Matrix3d H;
+    inertia(v, h2, gradient, H);
     // Per tet around v, det F and cof(F) g: moving v by dx changes F by the rank-one
     // dx g^T, so det F becomes det F + dx . cof(F) g exactly (the matrix determinant
     // lemma), and the positivity check after the step needs no new F.
@@ -198,6 +259,67 @@ class VbdSolve : public TetTimeStepper<Law> {
       H += visit.volume * terms.stiffness;
       if (cached) det_change[static_cast<size_t>(k)] << terms.cof_g, terms.J;
     }
+    step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) {
+      return cached ? positive_after(det_change, count, dx) : positive_around(visits, count, from + dx);
+    });
+  }
+
+  /// The same with the tets four at a time in lanes L (vbd_visit_blocks.h), inlined
+  /// into one function per instruction set.
+  template <class L>
+  [[gnu::always_inline]] void update_vertex_batched(int p, double h2) {
+    if constexpr (!HasLaneNodeTerms<Law>::value) {
+      update_vertex(p, h2);  // not reached: batched_ is false for such a law
+    } else {
+      const int v = order_[static_cast<size_t>(p)];
+      const Eigen::Vector3d from = x_.col(v);
+      Eigen::Vector3d gradient;
+      Eigen::Matrix3d H;
+      inertia(v, h2, gradient, H);
+      const VisitBlock* blocks = blocks_.data() + block_begin_[static_cast<size_t>(p)];
+      const int count = block_begin_[static_cast<size_t>(p) + 1] - block_begin_[static_cast<size_t>(p)];
+      const bool cached = count <= kCachedBlocks;
+      std::array<BlockDeterminants<L>, kCachedBlocks> dets;
+      const int bad = add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H,
+                                         cached ? dets.data() : nullptr);
+      if (bad >= 0) throw_at_lane(blocks[bad / kVisitLanes], bad % kVisitLanes, from);
+      // Inlined (as the lanes' kernels are) into the per-instruction-set caller.
+      step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
+        return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
+                      : blocks_above_at<L>(blocks, count, x_.data(), from + dx, kMinDet);
+      });
+    }
+  }
+  __attribute__((target("avx2,fma"))) void update_vertex_avx2(int p, double h2) {
+    update_vertex_batched<pbd::lanes::Vector<double, 4>>(p, h2);
+  }
+  void update_vertex_sse2(int p, double h2) { update_vertex_batched<pbd::batches::SseLanes>(p, h2); }
+
+  /// The inertial term of vertex v's Newton system: m / h^2 (x - y) and m / h^2 I.
+  [[gnu::always_inline]] void inertia(int v, double h2, Eigen::Vector3d& gradient, Eigen::Matrix3d& H) const {
+    const double m = mass_(v) / h2;
+    gradient = m * (x_.col(v) - y_.col(v));
+    H = m * Eigen::Matrix3d::Identity();
+  }
+
+  /// The law's own error for the tet in lane l of a block, whose det F the batched
+  /// kernel found not positive (its scalar node terms throw it).
+  [[noreturn]] void throw_at_lane(const VisitBlock& b, int l, const Eigen::Vector3d& from) const {
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (int j = 0; j < 3; ++j)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) F(r, c) += (x_(r, b.other[j][l]) - from(r)) * b.g[j + 1][c][l];
+    node_terms(this->law_, F, Eigen::Vector3d(b.g[0][0][l], b.g[0][1][l], b.g[0][2][l]));
+    throw std::runtime_error("vbd: a tet's det F is " + std::to_string(F.determinant()) + ", where the law is undefined");
+  }
+
+  /// The end of a vertex's update from its Newton system: held components removed,
+  /// the 3x3 solve, the spheres' constraint, and halvings of the step until
+  /// `positive(dx)` (every tet around the vertex keeps det F > kMinDet) where the law
+  /// needs it.
+  template <class Positive>
+  [[gnu::always_inline]] void step(int v, const Eigen::Vector3d& from, Eigen::Vector3d& gradient, Eigen::Matrix3d& H,
+                                   Positive&& positive) {
     for (int i = 0; i < 3; ++i)
       if (free_(i, v) == 0) {  // a held component does not move
         H.row(i).setZero();
@@ -211,8 +333,7 @@ class VbdSolve : public TetTimeStepper<Law> {
     if (!dx.allFinite()) return;
     if (this->contact_on() && this->surface_vertex(v) >= 0) constrain_to_spheres(v, cholesky, dx);
     for (int halving = 0; halving < 10; ++halving) {
-      if (!keep_positive_ ||
-          (cached ? positive_after(det_change, count, dx) : positive_around(visits, count, from + dx))) {
+      if (!keep_positive_ || positive(dx)) {
         x_.col(v) = from + dx;
         return;
       }
@@ -285,9 +406,13 @@ class VbdSolve : public TetTimeStepper<Law> {
 
   VbdSettings o_;
   bool keep_positive_;
+  VbdKernels kernels_;  ///< the kernels it runs (never Auto)
+  bool batched_;        ///< the tets four at a time (vbd_visit_blocks.h)
   std::vector<int> order_;        ///< the moving vertices in sweep order
   std::vector<TetVisit> visits_;  ///< their tets, in sweep order (lay_out_visits)
   std::vector<int> visit_begin_;  ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
+  std::vector<VisitBlock> blocks_;  ///< the visits four to a block (batched_; visits_ is then empty)
+  std::vector<int> block_begin_;    ///< per sweep position p, where its blocks begin (#order_ + 1; batched_)
   Colouring colours_;             ///< the vertex colours, as sweep positions
   typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
   Eigen::Matrix3Xd y_;                       ///< the inertial target
@@ -310,6 +435,10 @@ std::vector<ParameterSpec> vbd_parameters() {
   specs.push_back(P::choice("start", {"previous", "inertial", "adaptive"}, start_name(d.start),
                             "a frame's first iterate: the last positions, the inertial target, or the paper's adaptive "
                             "start (the last acceleration along the external force)"));
+  specs.push_back(P::choice("kernels", {"auto", "avx2", "sse2", "scalar"}, kernels_name(d.kernels),
+                            "avx2, sse2: a vertex's tets four at a time in vector lanes with those instructions (laws "
+                            "that offer it: neo_hookean); scalar: one at a time; auto: the best lanes this CPU and "
+                            "the law allow, else scalar"));
   return specs;
 }
 
@@ -321,6 +450,9 @@ VbdSettings vbd_settings(const Parameters& p) {
   s.chebyshev_rho = p.number("chebyshev_rho");
   const std::string& start = p.choice("start");
   s.start = start == "previous" ? VbdStart::Previous : start == "inertial" ? VbdStart::Inertial : VbdStart::Adaptive;
+  const std::string& kernels = p.choice("kernels");
+  for (VbdKernels k : {VbdKernels::Auto, VbdKernels::Avx2, VbdKernels::Sse2, VbdKernels::Scalar})
+    if (kernels == kernels_name(k)) s.kernels = k;
   return s;
 }
 

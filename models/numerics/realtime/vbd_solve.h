@@ -35,16 +35,23 @@ enum class VbdStart {
   Adaptive,  ///< x_n + h v_n + h^2 a~, a~ the last step's acceleration along the external one, clamped (the paper's)
 };
 
+/// How a vertex's tets are summed: four at a time in vector lanes (vbd_visit_blocks.h)
+/// with AVX2 and FMA or with SSE2, or one at a time. Auto: the lanes with the best of
+/// the two this CPU has, for a law that offers them (lane_node_terms: neo_hookean),
+/// else one at a time.
+enum class VbdKernels { Auto, Avx2, Sse2, Scalar };
+
 struct VbdSettings {
   TimeStepping stepping;
   std::string law = "neo_hookean";
   int iterations = 20;          ///< sweeps over every colour per frame
   double chebyshev_rho = 0;     ///< > 0: Chebyshev semi-iterative acceleration with this spectral radius estimate
   VbdStart start = VbdStart::Adaptive;
+  VbdKernels kernels = VbdKernels::Auto;
 };
 
 /// The model parameters of a VBD solve (material_law, iterations, chebyshev_rho,
-/// start, and time_step, threads).
+/// start, kernels, and time_step, threads).
 std::vector<ParameterSpec> vbd_parameters();
 VbdSettings vbd_settings(const Parameters& p);
 
