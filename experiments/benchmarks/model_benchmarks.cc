@@ -433,7 +433,8 @@ const TetMesh& cube_volume_in_tetgen_order(int refinement) {
 /// A frame of a real-time nonlinear stepper on the paper cube's fine volume
 /// (refinement range(1): 1 the paper's ~17 800 tets, 6 about 100 000), the 1 N pull
 /// at the top centre: range(0) 0 VBD (neo_hookean), 1 XPBD (xpbd_neo_hookean), 2 PD
-/// quasi_newton (neo_hookean) or 3 PD local_global (arap_volume), on range(2)
+/// quasi_newton (neo_hookean), 3 PD local_global (arap_volume) or 4 VBD with its scalar
+/// kernels (one tet at a time: 0 takes four at a time in vector lanes), on range(2)
 /// threads, range(3) sweeps (VBD), sub-steps (XPBD) or iterations (PD, all run) a frame; time_step
 /// 0.01 s (XPBD with one sub-step: 0.001 s, the configuration whose settled error
 /// docs/realtime_nonlinear.md tables); range(4) zorder: 1 the volume as the hybrid
@@ -447,10 +448,11 @@ void BM_NonlinearStepperFrame(benchmark::State& state) {
   std::unique_ptr<ElasticSolve> solve;
   const int threads = static_cast<int>(state.range(2));
   const int work = static_cast<int>(state.range(3));
-  if (state.range(0) == 0) {
+  if (state.range(0) == 0 || state.range(0) == 4) {
     VbdSettings o;
     o.stepping.threads = threads;
     o.iterations = work;
+    if (state.range(0) == 4) o.kernels = VbdKernels::Scalar;
     solve = make_vbd_solve(body, o);
   } else if (state.range(0) >= 2) {  // pd: 2 quasi_newton (neo_hookean), 3 local_global (arap_volume)
     PdSettings o;
@@ -533,6 +535,7 @@ BENCHMARK(BM_NonlinearStepperFrame)
     ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {1, 20}, {0}})
     ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}, {1}})
     ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}, {1}})
+    ->ArgsProduct({{4}, {1, 6}, {1, 2}, {1, 20}, {1}})  // VBD's scalar kernels beside its lanes (0)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
