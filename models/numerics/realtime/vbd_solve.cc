@@ -1,14 +1,12 @@
 #include "vbd_solve.h"
 
 #include <array>
-
 #include <sstream>
 #include <stdexcept>
 
 #include "cholesky3.h"
 #include "node_terms.h"
 #include "vbd_visit_blocks.h"
-
 
 namespace tb {
 namespace {
