@@ -4,9 +4,11 @@
 // scalar constraint functions compute bitwise the same numbers. Every operation
 // here is either exactly rounded (+ - * / sqrt) or a select, so a lane of a batch
 // equals the scalar result of the same precision whatever the vector width; the
-// build keeps FMA contraction off for the files that use it (models/CMakeLists.txt),
+// build keeps FMA contraction off for the PBD files that use it (models/CMakeLists.txt),
 // which would break that equality (and FMA measured 4% faster, 8% fewer
-// instructions, on a 10k-vertex frame: not worth a second set of numbers).
+// instructions, on a 10k-vertex frame: not worth a second set of numbers). VBD's
+// lanes (realtime/vbd_visit_blocks.h) are compiled for AVX2 with FMA contraction on:
+// they need not equal a scalar path bitwise, only to round-off (their tests).
 #pragma once
 
 #include <cmath>
@@ -234,9 +236,10 @@ TB_PBD_INLINE T atan2(T y, T x) {
 /// (Sun Microsystems 1993): x = 2^k m, m in [sqrt(2)/2, sqrt(2)), f = m - 1,
 /// s = f / (2 + f), ln m = f - s (f - R(s^2)) with the minimax R of degree 14 below
 /// (error under 2^-58.45 on that interval), ln 2 split in a high part exact in k ln2_hi.
-/// Within 1 ulp of the C library (tests/models/numerics/pbd/constraint_batches_test.cc).
-/// Zero, negative, subnormal, infinite or NaN x: an unspecified finite or NaN number
-/// (the caller rules them out; VBD checks det F > 0 first).
+/// Subnormal x are scaled by 2^54 first. Within 1 ulp of the C library
+/// (tests/models/numerics/pbd/constraint_batches_test.cc; with AVX2 and FMA:
+/// tests/models/realtime/vbd_kernels_test.cc). Zero, negative, infinite or NaN x: an
+/// unspecified finite or NaN number (the caller rules them out; VBD checks det F > 0 first).
 template <class T>
 TB_PBD_INLINE T log(T x) {
   static_assert(std::is_same_v<Element<T>, double>, "lanes::log is written for double precision");
@@ -245,6 +248,9 @@ TB_PBD_INLINE T log(T x) {
                    kLg3 = 2.857142874366239149e-01, kLg4 = 2.222219843214978396e-01,
                    kLg5 = 1.818357216161805012e-01, kLg6 = 1.531383769920937332e-01,
                    kLg7 = 1.479819860511658591e-01;
+  // A subnormal x times 2^54 is normal; k below takes the 54 back.
+  const auto subnormal = x < splat<T>(std::numeric_limits<double>::min());
+  x = select(subnormal, x * splat<T>(18014398509481984.0), x);
   // The biased exponent e and the mantissa m in [1, 2), by bits; e as a double by
   // the 2^52 trick (no int64-to-double instruction before AVX-512DQ).
   T m, e;
@@ -265,7 +271,7 @@ TB_PBD_INLINE T log(T x) {
   const T one = splat<T>(1);
   const auto high = m > splat<T>(1.41421356237309504880);
   m = select(high, splat<T>(0.5) * m, m);  // exact
-  const T k = (e - splat<T>(4503599627370496.0 + 1023)) + select(high, one, T{});
+  const T k = (e - splat<T>(4503599627370496.0 + 1023)) + select(high, one, T{}) - select(subnormal, splat<T>(54), T{});
   const T f = m - one, s = f / (splat<T>(2) + f), z = s * s, w = z * z;
   const T t1 = w * (splat<T>(kLg2) + w * (splat<T>(kLg4) + w * splat<T>(kLg6)));
   const T t2 = z * (splat<T>(kLg1) + w * (splat<T>(kLg3) + w * (splat<T>(kLg5) + w * splat<T>(kLg7))));

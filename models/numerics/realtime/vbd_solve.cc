@@ -209,8 +209,11 @@ class VbdSolve : public TetTimeStepper<Law> {
             for (int l = 0; l < kVisitLanes; ++l) {
               const bool real = k + l < visit_begin_.back();
               const TetVisit* visit = real ? &visits_[static_cast<size_t>(k + l)] : nullptr;
-              for (int node = 0; node < 4; ++node)
+              for (int node = 1; node < 4; ++node)
                 for (int i = 0; i < 3; ++i) block.g[node][i][l] = real ? visit->g(i, node) : 0;
+              // The vertex's own gradient as minus the others' sum (vbd_visit_blocks.h):
+              // TetShape's holds that for a tet's node 0 only, to round-off for the others.
+              for (int i = 0; i < 3; ++i) block.g[0][i][l] = -(block.g[1][i][l] + block.g[2][i][l] + block.g[3][i][l]);
               block.volume[l] = real ? visit->volume : 0;
               block.empty[l] = real ? 0 : 1;
               for (int j = 0; j < 3; ++j) block.other[j][l] = real ? visit->other[static_cast<size_t>(j)] : v;
@@ -280,7 +283,7 @@ class VbdSolve : public TetTimeStepper<Law> {
       std::array<BlockDeterminants<L>, kCachedBlocks> dets;
       const int bad = add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H,
                                          cached ? dets.data() : nullptr);
-      if (bad >= 0) throw_at_lane(blocks[bad / kVisitLanes], bad % kVisitLanes, from);
+      if (bad >= 0) throw_at_lane(v, blocks[bad / kVisitLanes], bad % kVisitLanes, from);
       // Inlined (as the lanes' kernels are) into the per-instruction-set caller.
       step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
         return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
@@ -301,14 +304,18 @@ class VbdSolve : public TetTimeStepper<Law> {
   }
 
   /// The law's own error for the tet in lane l of a block, whose det F the batched
-  /// kernel found not positive (its scalar node terms throw it).
-  [[noreturn]] void throw_at_lane(const VisitBlock& b, int l, const Eigen::Vector3d& from) const {
+  /// kernel found not positive (its scalar node terms throw it; should F recomputed
+  /// here round to a positive det F, a one-line error of the same kind).
+  [[noreturn]] void throw_at_lane(int v, const VisitBlock& b, int l, const Eigen::Vector3d& from) const {
     Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
     for (int j = 0; j < 3; ++j)
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) F(r, c) += (x_(r, b.other[j][l]) - from(r)) * b.g[j + 1][c][l];
     node_terms(this->law_, F, Eigen::Vector3d(b.g[0][0][l], b.g[0][1][l], b.g[0][2][l]));
-    throw std::runtime_error("vbd: a tet's det F is " + std::to_string(F.determinant()) + ", where the law is undefined");
+    std::ostringstream msg;
+    msg << "vbd: a tet at node " << v << " reached det F <= 0 in the batched kernels (" << F.determinant()
+        << " recomputed), where the " << o_.law << " law is undefined";
+    throw std::runtime_error(msg.str());
   }
 
   /// The end of a vertex's update from its Newton system: held components removed,

@@ -3,12 +3,14 @@
 // kernel that sums their force and stiffness into the vertex's 3x3 Newton system
 // (vbd_solve.cc's update_vertex, Chen et al. 2024 eqs. 7-8) with the law's
 // lane_node_terms (neo_hookean.h). The scalar path computes the same sums one tet at
-// a time; the two agree to round-off (tests/models/realtime/realtime_solvers_test.cc)
-// and the batched one is about twice as fast (docs/realtime_nonlinear.md).
+// a time; the two agree to round-off (tests/models/realtime/vbd_kernels_test.cc) and
+// the batched one is about three times as fast (docs/realtime_nonlinear.md, "Four
+// tets at a time").
 //
-// F of a lane is sum_j (x_j - x_v) g_j^T over the tet's three other nodes j (the
-// vertex's own gradient is minus the others' sum, so this is tet_F without the
-// vertex's term, and with smaller numbers). A vertex's last block is padded with
+// F of a lane is sum_j (x_j - x_v) g_j^T over the tet's three other nodes j: tet_F
+// with the vertex's own gradient taken as minus the others' sum, which the block
+// stores as g_v (vbd_solve.cc), so that F moves with the vertex exactly by dx g_v^T
+// and det F by dx . cof(F) g_v (the positivity check's lemma). A vertex's last block is padded with
 // empty lanes: volume 0, g 0, its own index for the other nodes, and F = I, so that
 // they add nothing and never look inverted.
 #pragma once
@@ -34,9 +36,12 @@ struct alignas(32) VisitBlock {
 };
 
 /// Of one block, lane by lane, cof(F) g and det F: moving the vertex by dx makes
-/// det F exactly J + dx . c (the matrix determinant lemma; vbd_solve.cc).
+/// det F exactly J + dx . c (the matrix determinant lemma; vbd_solve.cc). Aligned
+/// to 32 bytes explicitly: a GCC vector type of 32 bytes declared outside an AVX
+/// function has an alignment of 16 only, so an array of it (as a container allocates
+/// it) would not suit the AVX code's aligned moves (a test crashed on one).
 template <class L>
-struct BlockDeterminants {
+struct alignas(32) BlockDeterminants {
   L c[3];
   L J;
 };
@@ -142,7 +147,7 @@ TB_PBD_INLINE int add_block_terms(const Law& law, const VisitBlock* blocks, int 
     V::deformation_gradients<L>(b, x, at, F);
     V::cofactor<L>(F, C);
     const L J = F[0][0] * C[0][0] + F[1][0] * C[1][0] + F[2][0] * C[2][0];
-    if (!V::all_above<L>(J, 0))
+    if (!V::all_above<L>(J, 0))  // lanes::log takes any positive J, subnormal ones too
       for (int l = 0; l < kVisitLanes; ++l)
         if (!(V::lane(J, l) > 0)) return kVisitLanes * k + l;
     const L g[3] = {V::load<L>(b.g[0][0]), V::load<L>(b.g[0][1]), V::load<L>(b.g[0][2])};

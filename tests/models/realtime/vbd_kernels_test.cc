@@ -3,21 +3,29 @@
 // same frames give the same positions to round-off, with AVX2 and with SSE2, under a
 // point force, under a plate whose move inverts tets unless staged, and around a
 // vertex in more tets than the kernels cache (their positivity check recomputes F
-// there). And a law without batched node terms refuses the lanes with a one-line
-// error.
+// there). The kernels themselves on random tets against the law's scalar node terms,
+// and their positivity checks at a step that crosses the smallest det F allowed;
+// lanes::log as VBD compiles it (AVX2 with FMA) against the C library. And a law
+// without batched node terms refuses the lanes with a one-line error.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
+#include "lame_parameters.h"
 #include "load_mapping.h"
 #include "mesh_checks.h"
 #include "settled_cube.h"
 #include "test_support.h"
+#include "neo_hookean.h"
+#include "tet_element.h"
 #include "vbd_solve.h"
+#include "vbd_visit_blocks.h"
 
 namespace tb {
 namespace {
@@ -125,6 +133,153 @@ TEST(VbdKernels, LanesGiveTheScalarAnswerAroundAVertexInMoreTetsThanCached) {
   const Eigen::VectorXd scalar = run(body, none, VbdKernels::Scalar, {}, press, 10);
   ASSERT_GT(std::abs(scalar(2)), 1e-4);  // the centre (node 0) moved
   for (VbdKernels k : lane_kernels()) EXPECT_LT(relative(run(body, none, k, {}, press, 10), scalar), 1e-12);
+}
+
+/// Tets around one vertex (node 0 of each), deformed at random but positive, in
+/// blocks as vbd_solve.cc lays them out: `count` real tets, the last block padded.
+struct KernelCase {
+  NeoHookean law{lame_parameters(Material{3000, 0.45, 1000})};
+  Eigen::Matrix3Xd x;  // node 0 the vertex, then three nodes per tet
+  std::vector<VisitBlock> blocks;
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  // the scalar node terms' sums
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector4d> cof_g_and_J;  // per tet
+  explicit KernelCase(int count, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-0.3, 0.3);
+    x.resize(3, 1 + 3 * count);
+    x.col(0).setZero();
+    blocks.resize(static_cast<size_t>((count + kVisitLanes - 1) / kVisitLanes));
+    for (int t = 0; t < count; ++t) {
+      // A rest tet scaled to 1 cm, and its nodes moved by up to 30 % of that.
+      const Eigen::Vector3d X[4] = {{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}};
+      const TetShape shape = tet_shape(X[0], X[1], X[2], X[3]);
+      Eigen::Matrix<double, 3, 4> at;
+      at.col(0) = x.col(0);
+      for (int j = 1; j < 4; ++j) {
+        at.col(j) = X[j] + 0.01 * Eigen::Vector3d(U(rng), U(rng), U(rng));
+        x.col(1 + 3 * t + j - 1) = at.col(j);
+      }
+      VisitBlock& b = blocks[static_cast<size_t>(t / kVisitLanes)];
+      const int l = t % kVisitLanes;
+      for (int j = 1; j < 4; ++j)
+        for (int i = 0; i < 3; ++i) b.g[j][i][l] = shape.gradients(i, j);
+      for (int i = 0; i < 3; ++i) b.g[0][i][l] = -(b.g[1][i][l] + b.g[2][i][l] + b.g[3][i][l]);
+      for (int j = 0; j < 3; ++j) b.other[j][l] = 1 + 3 * t + j;
+      b.volume[l] = shape.volume;
+      const Eigen::Vector3d g0(b.g[0][0][l], b.g[0][1][l], b.g[0][2][l]);
+      Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+      for (int j = 1; j < 4; ++j) F += (at.col(j) - at.col(0)) * shape.gradients.col(j).transpose();
+      const NodeTerms terms = law.node_terms(F, g0);
+      gradient += shape.volume * terms.force;
+      H += shape.volume * terms.stiffness;
+      cof_g_and_J.push_back((Eigen::Vector4d() << terms.cof_g, terms.J).finished());
+    }
+    for (int t = count; t < kVisitLanes * static_cast<int>(blocks.size()); ++t) {
+      VisitBlock& b = blocks.back();
+      const int l = t % kVisitLanes;
+      b.empty[l] = 1;  // g, volume 0; the vertex itself as the other nodes
+    }
+  }
+};
+
+/// What the kernels give on a KernelCase: the sums, and the two positivity checks
+/// (cached determinants, recomputed F) at each step in `steps`.
+struct KernelAnswer {
+  int bad = 0;
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  std::vector<char> cached, recomputed;
+};
+template <class L>
+[[gnu::always_inline]] inline KernelAnswer run_kernels(const KernelCase& c, const std::vector<Eigen::Vector3d>& steps,
+                                                      double bound) {
+  KernelAnswer a;
+  const int count = static_cast<int>(c.blocks.size());
+  std::vector<BlockDeterminants<L>> dets(c.blocks.size());  // on the heap: the alignment tested
+  a.bad = add_block_terms<L>(c.law, c.blocks.data(), count, c.x.data(), c.x.col(0), a.gradient, a.H, dets.data());
+  for (const Eigen::Vector3d& dx : steps) {
+    a.cached.push_back(blocks_stay_above<L>(dets.data(), count, dx, bound));
+    a.recomputed.push_back(blocks_above_at<L>(c.blocks.data(), count, c.x.data(), c.x.col(0) + dx, bound));
+  }
+  return a;
+}
+KernelAnswer run_sse2(const KernelCase& c, const std::vector<Eigen::Vector3d>& steps, double bound) {
+  return run_kernels<pbd::batches::SseLanes>(c, steps, bound);
+}
+__attribute__((target("avx2,fma"))) KernelAnswer run_avx2(const KernelCase& c, const std::vector<Eigen::Vector3d>& steps,
+                                                          double bound) {
+  return run_kernels<pbd::lanes::Vector<double, 4>>(c, steps, bound);
+}
+
+TEST(VbdKernels, BlockSumsEqualTheLawsScalarNodeTermsAndTheChecksSeeTheSmallestDeterminant) {
+  for (int count : {1, 2, 3, 4, 5, 23}) {  // a padded block, full ones, and a vertex's typical 23
+    const KernelCase c(count, 7u + static_cast<unsigned>(count));
+    // Steps: none, a small one, and along a direction d to 0.99 and 1.01 times the
+    // first crossing of det F = bound by any tet (det F + alpha d . cof(F) g = bound):
+    // the last two must be taken and refused.
+    const double bound = 1e-3;
+    const Eigen::Vector3d d = -c.cof_g_and_J[0].head<3>().normalized();  // tet 0's det F falls along it
+    double alpha = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector4d& e : c.cof_g_and_J)
+      if (d.dot(e.head<3>()) < 0) alpha = std::min(alpha, (e(3) - bound) / -d.dot(e.head<3>()));
+    ASSERT_TRUE(std::isfinite(alpha)) << count;
+    const std::vector<Eigen::Vector3d> steps = {Eigen::Vector3d::Zero(), 1e-5 * Eigen::Vector3d(1, -2, 0.5),
+                                                0.99 * alpha * d, 1.01 * alpha * d};
+    const std::vector<char> expected = {1, 1, 1, 0};
+    std::vector<KernelAnswer> answers = {run_sse2(c, steps, bound)};
+    if (cpu_has_avx2()) answers.push_back(run_avx2(c, steps, bound));
+    for (const KernelAnswer& a : answers) {
+      EXPECT_EQ(a.bad, -1) << count;
+      EXPECT_LT((a.gradient - c.gradient).norm(), 1e-12 * c.gradient.norm()) << count;
+      EXPECT_LT((a.H - c.H).norm(), 1e-12 * c.H.norm()) << count;
+      EXPECT_LT((a.H - a.H.transpose()).norm(), 1e-15 * a.H.norm()) << count;
+      EXPECT_EQ(a.cached, expected) << count;
+      EXPECT_EQ(a.recomputed, expected) << count;
+    }
+  }
+}
+
+TEST(VbdKernels, AnInvertedTetIsReportedByItsLane) {
+  KernelCase c(6, 11u);
+  // Tet 5 (block 1, lane 1): its first other node moved through the opposite face.
+  VisitBlock& b = c.blocks[1];
+  const int node = b.other[0][1];
+  c.x.col(node) = -c.x.col(node);
+  const KernelAnswer a = run_sse2(c, {}, 0);
+  EXPECT_EQ(a.bad, kVisitLanes * 1 + 1);
+  if (cpu_has_avx2()) {
+    EXPECT_EQ(run_avx2(c, {}, 0).bad, kVisitLanes * 1 + 1);
+  }
+}
+
+/// The largest distance from the C library's log, in ulps, of lanes::log compiled as
+/// VBD's lanes are (AVX2 with FMA contraction), over normal and subnormal numbers.
+__attribute__((target("avx2,fma"))) double worst_log_ulps_avx2() {
+  using V = pbd::lanes::Vector<double, 4>;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> E(-700, 700), Near1(-1e-3, 1e-3), Sub(0, 1);
+  double worst = 0;
+  for (int trial = 0; trial < 50000; ++trial) {
+    V x;
+    x[0] = std::exp(E(rng));
+    x[1] = 1 + Near1(rng);
+    x[2] = std::numeric_limits<double>::min() * Sub(rng) + std::numeric_limits<double>::denorm_min();  // subnormal
+    x[3] = std::exp(E(rng) / 100);
+    const V r = pbd::lanes::log(x);
+    for (int l = 0; l < 4; ++l) {
+      const double exact = std::log(x[l]);
+      worst = std::max(worst, std::abs(r[l] - exact) / (std::nextafter(std::abs(exact), INFINITY) - std::abs(exact)));
+    }
+  }
+  return worst;
+}
+
+TEST(VbdKernels, LogWithAvx2AndFmaIsWithinTwoUlpsOfTheCLibrary) {
+  if (!cpu_has_avx2()) GTEST_SKIP() << "this CPU has no AVX2 and FMA";
+  const double worst = worst_log_ulps_avx2();
+  EXPECT_LE(worst, 2.0);
+  RecordProperty("max_ulps", std::to_string(worst));
 }
 
 TEST(VbdKernels, ALawWithoutLanesRefusesThemInOneLine) {

@@ -85,6 +85,14 @@ TEST(LaneMath, LogAgreesWithTheCLibraryAndIsTheSameInEveryLane) {
   EXPECT_NEAR(lanes::log(std::numeric_limits<double>::max()), std::log(std::numeric_limits<double>::max()), 1e-13);
   EXPECT_NEAR(lanes::log(std::numeric_limits<double>::min()), std::log(std::numeric_limits<double>::min()), 1e-13);
   EXPECT_NEAR(lanes::log(std::nextafter(std::sqrt(2.0), 0.0)), std::log(std::nextafter(std::sqrt(2.0), 0.0)), 2e-16);
+  // Subnormal numbers (scaled by 2^54 first), down to the smallest.
+  const double denorm_min = std::numeric_limits<double>::denorm_min();
+  for (double x : {denorm_min, 3 * denorm_min, 1e-310, 0.5 * std::numeric_limits<double>::min()}) {
+    EXPECT_LE(ulps(lanes::log(x), std::log(x)), 1.0) << x;
+    const lanes::Batch b = lanes::log(lanes::Batch{x, 1.0, x, 2.0});
+    EXPECT_EQ(b[0], lanes::log(x));
+    EXPECT_EQ(b[2], lanes::log(x));
+  }
 }
 
 TEST(LaneMath, SinglePrecisionAtan2AgreesWithTheCLibraryAndIsTheSameInEveryLane) {
