@@ -92,6 +92,45 @@ class ThreadSpeedupTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             thread_speedup.repetitions([b])
 
+    def test_nonlinear_steppers_use_the_median_frame_and_fit_the_cost_slope(self):
+        def frame(solver, tets, threads, rep, p50, mean=99.0):
+            name = f"BM_NonlinearStepperFrame/xpbd:{solver}/refine:1/threads:{threads}/work:1/zorder:1/real_time"
+            b = run(name, 0, rep, mean)  # the loop's mean is not what is read
+            b.update({"p50_ms": p50, "tets": tets})
+            return b
+        # vbd: 1 ms per 10 000 tets on one thread, 0.55 on two (slope 1); xpbd on one size only
+        benchmarks = [frame(0, n, t, k, n / 1e4 * (1.0 if t == 1 else 0.55)) for n in (10000, 20000, 40000)
+                      for t in (1, 2) for k in range(3)]
+        benchmarks += [frame(1, 10000, t, 0, 2.0 / t) for t in (1, 2)]
+        benchmarks += [run(pbd(t), 9602, 0, 2.0 / t) for t in (1, 2)]  # the frame-scaling table too
+        with tempfile.TemporaryDirectory() as d:
+            subprocess.run([sys.executable, SCRIPT, self.write(d, benchmarks), d], check=True, capture_output=True)
+            with open(os.path.join(d, "tables", "nonlinear_thread_speedup.csv")) as f:
+                rows = {(r["series"], r["tets"]): r for r in csv.DictReader(f)}
+            with open(os.path.join(d, "tables", "nonlinear_cost_slope.csv")) as f:
+                slopes = list(csv.DictReader(f))
+            self.assertEqual(len(self.table(d)), 1)  # pbd's row, in its own table
+        v = rows[("vbd, 1 sweep", "20000")]
+        self.assertEqual(v["1 thread median ms"], "2.000")
+        self.assertEqual(v["2 threads median ms"], "1.100")
+        self.assertEqual(v["speed-up (medians)"], "1.82")
+        self.assertEqual(rows[("xpbd, 1 sub-step of 1 ms", "10000")]["speed-up (medians)"], "2.00")
+        self.assertEqual(len(slopes), 1)  # xpbd has one size: no slope
+        self.assertEqual(slopes[0]["series"], "vbd, 1 sweep")
+        self.assertEqual(slopes[0]["slope, 1 thread"], "1.00")
+        self.assertEqual(slopes[0]["slope, 2 threads"], "1.00")
+        self.assertEqual(slopes[0]["both <= 1.1"], "yes")
+
+    def test_a_nonlinear_benchmark_without_its_median_frame_is_refused_by_name(self):
+        b = run("BM_NonlinearStepperFrame/xpbd:0/refine:1/threads:1/work:1/zorder:1/real_time", 0, 0, 2.0)
+        b["tets"] = 17821
+        with tempfile.TemporaryDirectory() as d:
+            path = self.write(d, [b])
+            r = subprocess.run([sys.executable, SCRIPT, path, d], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn(path, r.stderr)
+            self.assertIn("no p50_ms counter", r.stderr)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -12,9 +12,15 @@ namespace tb::pbd {
 namespace {
 
 /// How long a waiting member spins before it sleeps: longer than a colour's work
-/// at the sizes where threads pay (so barriers do not sleep mid-sweep), short
-/// enough that an idle team leaves the CPU to others between frames.
-constexpr auto kSpin = std::chrono::microseconds(50);
+/// and than the serial part of a frame (so neither a barrier nor the next run of
+/// back-to-back frames finds it asleep), short enough that an idle team leaves the
+/// CPU to others between frames at 60 Hz. Waking a sleeping member is a futex
+/// system call that, in the 2-vCPU VM of docs/realtime_nonlinear.md, took about a
+/// tenth of the caller's time in a one-sweep VBD frame at the 50 us this was
+/// before (perf, "Two threads and the serial remainder"). OpenMP runtimes spin
+/// longer by default (libgomp's GOMP_SPINCOUNT of 300 000 pauses, Intel's
+/// KMP_BLOCKTIME of 200 ms).
+constexpr auto kSpin = std::chrono::milliseconds(1);
 
 inline void cpu_relax() {
 #if defined(__x86_64__) || defined(__i386__)

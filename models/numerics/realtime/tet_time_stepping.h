@@ -27,12 +27,14 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "colouring.h"
@@ -93,7 +95,9 @@ class TetTimeStepper : public ElasticSolve {
     X_ = m.V.transpose();
     x_ = X_;
     x_n_ = X_;
+    target_ = X_;
     v_ = Eigen::Matrix3Xd::Zero(3, n);
+    v_n_held_ = v_;
     f_ext_ = Eigen::Matrix3Xd::Zero(3, n);
     free_ = Eigen::Matrix3Xd::Zero(3, n);
     mass_ = Eigen::VectorXd::Zero(n);
@@ -105,12 +109,14 @@ class TetTimeStepper : public ElasticSolve {
       for (int a = 0; a < 4; ++a) mass_(T_(t, a)) += body.material().density * shapes_.back().volume / 4;
     }
     std::vector<char> held(static_cast<size_t>(n), 0);
-    for (Eigen::Index v = 0; v < n; ++v)
+    for (Eigen::Index v = 0; v < n; ++v) {
       for (int i = 0; i < 3; ++i) {
         const bool is_free = body.free_index(static_cast<int>(3 * v + i)) >= 0;
         free_(i, v) = is_free ? 1 : 0;
         if (!is_free) held[static_cast<size_t>(v)] = 1;
       }
+      if (held[static_cast<size_t>(v)]) held_nodes_.push_back(static_cast<int>(v));
+    }
     for (Eigen::Index t = 0; t < T_.rows(); ++t)
       for (int a = 0; a < 4; ++a)
         if (held[static_cast<size_t>(T_(t, a))]) {
@@ -118,6 +124,7 @@ class TetTimeStepper : public ElasticSolve {
           break;
         }
     reaction_force_ = Eigen::VectorXd::Zero(3 * n);
+    tet_forces_.resize(held_tets_.size());
     if (s_.threads > 1) {
       team_ = std::make_unique<pbd::ThreadTeam>(s_.threads);
       member_checks_.resize(static_cast<size_t>(team_->size()));
@@ -134,23 +141,29 @@ class TetTimeStepper : public ElasticSolve {
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) final {
     const Eigen::Index n = X_.cols();
     if (u.size() != 3 * n) u = Eigen::VectorXd::Zero(3 * n);
-    for (Eigen::Index v = 0; v < n; ++v)
-      for (int i = 0; i < 3; ++i) {
-        const int free = body_.free_index(static_cast<int>(3 * v + i));
-        f_ext_(i, v) = free >= 0 ? f_free(free) : 0;
+    for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v) {
+        for (int i = 0; i < 3; ++i) {
+          const int free = body_.free_index(static_cast<int>(3 * v + i));
+          f_ext_(i, v) = free >= 0 ? f_free(free) : 0;
+        }
+        x_n_.col(v) = x_.col(v);
+        v_n_held_.col(v) = v_.col(v);
+        target_.col(v) = X_.col(v) + u.segment<3>(3 * v);  // the held components' values
       }
-    x_n_ = x_;
-    v_n_held_ = v_;
-    target_ = X_ + Eigen::Map<const Eigen::Matrix3Xd>(u.data(), 3, n);  // the held components' values
+    });
     if (contact_on()) prepare_contact();
     advance();
-    for (Eigen::Index v = 0; v < n; ++v)
-      for (int i = 0; i < 3; ++i)
-        if (free_(i, v) == 0) {
-          x_(i, v) = target_(i, v);
-          v_(i, v) = (x_(i, v) - x_n_(i, v)) / s_.time_step;
-        }
-    Eigen::Map<Eigen::Matrix3Xd>(u.data(), 3, n) = x_ - X_;
+    for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v) {
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) == 0) {
+            x_(i, v) = target_(i, v);
+            v_(i, v) = (x_(i, v) - x_n_(i, v)) / s_.time_step;
+          }
+        u.segment<3>(3 * v) = x_.col(v) - X_.col(v);
+      }
+    });
     measure_reactions();
     if (spheres_) measure_contact();
   }
@@ -202,14 +215,32 @@ class TetTimeStepper : public ElasticSolve {
   /// reactions read none): the law's, sum over the tets that touch a held node of
   /// V P(F) g_a. A stepper whose fixed point is not the law's equilibrium gives its
   /// own (XPBD: its tet multipliers).
-  virtual void add_held_internal_force(Eigen::VectorXd& f) const {
-    for (int t : held_tets_) add_law_internal_force(t, f);
+  virtual void add_held_internal_force(Eigen::VectorXd& f) { add_law_internal_force(held_tets_, f); }
+  /// Adds the f_int of `tets` under the law at x_, V P(F) g_a at each node a of each,
+  /// into f (3 #V): each tet's on the thread team, then summed into f in the list's
+  /// order (the same sums whatever the team's size). The law's error for an inverted
+  /// tet is thrown from the caller's thread.
+  void add_law_internal_force(const std::vector<int>& tets, Eigen::VectorXd& f) {
+    if (tet_forces_.size() < tets.size()) tet_forces_.resize(tets.size());
+    std::atomic<bool> undefined{false};
+    for_ranges(static_cast<Eigen::Index>(tets.size()), [&](Eigen::Index begin, Eigen::Index end, int) {
+      try {
+        for (Eigen::Index k = begin; k < end; ++k)
+          tet_forces_[static_cast<size_t>(k)] = law_internal_force(tets[static_cast<size_t>(k)]);
+      } catch (const std::domain_error&) {  // a task must not throw (thread_team.h)
+        undefined = true;
+      }
+    });
+    if (undefined)
+      for (int t : tets) law_internal_force(t);  // throws the law's error for the first such tet
+    for (size_t k = 0; k < tets.size(); ++k)
+      for (int a = 0; a < 4; ++a) f.segment<3>(3 * T_(tets[k], a)) += tet_forces_[k].col(a);
   }
-  /// Adds tet t's f_int under the law at x_, V P(F) g_a at each node a, into f (3 #V).
-  void add_law_internal_force(int t, Eigen::VectorXd& f) const {
+  /// Tet t's f_int under the law at x_: column a, V P(F) g_a at its node a.
+  Eigen::Matrix<double, 3, 4> law_internal_force(int t) const {
     const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));
     const TetShape& shape = shapes_[static_cast<size_t>(t)];
-    for (int a = 0; a < 4; ++a) f.segment<3>(3 * T_(t, a)) += shape.volume * (P * shape.gradients.col(a));
+    return shape.volume * (P * shape.gradients);
   }
 
   /// F of tet t at positions x (3 by #V) (tet_F).
@@ -221,6 +252,30 @@ class TetTimeStepper : public ElasticSolve {
   /// Signed volume of tet t with its corners at x (mesh_checks.h).
   double signed_volume(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
     return tet_volume(x.col(T_(t, 0)), x.col(T_(t, 1)), x.col(T_(t, 2)), x.col(T_(t, 3)));
+  }
+
+  /// Runs part(begin, end, member) over contiguous ranges that split [0, count)
+  /// among the thread team's members (the whole range on the caller without a
+  /// team): a frame's per-node and per-tet loops, which on one thread would be a
+  /// tenth of a one-sweep VBD frame left serial (docs/realtime_nonlinear.md, "Two
+  /// threads and the serial remainder"). part must not throw or allocate.
+  template <class Part>
+  void for_ranges(Eigen::Index count, Part&& part) {
+    if (!team_) {
+      part(Eigen::Index{0}, count, 0);
+      return;
+    }
+    const Eigen::Index members = team_->size();
+    auto task = [&](int member) {
+      const Eigen::Index m = member;
+      part(count * m / members, count * (m + 1) / members, member);
+    };
+    team_->run(task);
+  }
+  /// for_ranges over the nodes.
+  template <class Part>
+  void for_node_ranges(Part&& part) {
+    for_ranges(X_.cols(), std::forward<Part>(part));
   }
 
   /// Whether every tet has det F > 0 at x (3 by #V); with `first_bad` the first that
@@ -248,15 +303,11 @@ class TetTimeStepper : public ElasticSolve {
     if (!team_) {
       bad = first_not_positive(0, tets, J);
     } else {
-      const Eigen::Index members = team_->size();
-      auto task = [&](int member) {
-        const Eigen::Index m = member;
-        MemberCheck& c = member_checks_[static_cast<size_t>(m)];
-        const Eigen::Index end = tets * (m + 1) / members;
-        c.bad = first_not_positive(tets * m / members, end, c.J);
+      for_ranges(tets, [&](Eigen::Index begin, Eigen::Index end, int member) {
+        MemberCheck& c = member_checks_[static_cast<size_t>(member)];
+        c.bad = first_not_positive(begin, end, c.J);
         if (c.bad == end) c.bad = tets;
-      };
-      team_->run(task);
+      });
       for (const MemberCheck& c : member_checks_)
         if (c.bad < bad) {
           bad = c.bad;
@@ -421,7 +472,7 @@ class TetTimeStepper : public ElasticSolve {
     const double h = s_.time_step;
     add_held_internal_force(reaction_force_);
     // The held nodes' inertia: the tool accelerates the mass it holds.
-    for (Eigen::Index v = 0; v < X_.cols(); ++v)
+    for (int v : held_nodes_)
       for (int i = 0; i < 3; ++i)
         if (free_(i, v) == 0)
           reaction_force_(3 * v + i) += mass_(v) * (x_(i, v) - x_n_(i, v) - h * v_n_held_(i, v)) / (h * h);
@@ -460,6 +511,8 @@ class TetTimeStepper : public ElasticSolve {
   VertexTets around_contact_;           ///< the tets around each node (the contact forces' f_int)
   std::vector<NodeContact> contacts_;
   std::vector<int> held_tets_;      ///< tets with a held node (the reactions' f_int)
+  std::vector<int> held_nodes_;     ///< nodes with a held component
+  std::vector<Eigen::Matrix<double, 3, 4>> tet_forces_;  ///< add_law_internal_force's per-tet forces
   Eigen::Matrix3Xd v_n_held_;       ///< velocities at the frame's start (the held nodes' inertia)
   Eigen::VectorXd reaction_force_;  ///< f_int + inertia at the held dofs (3 #V, zero elsewhere)
 };

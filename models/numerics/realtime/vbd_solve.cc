@@ -91,25 +91,9 @@ class VbdSolve : public TetTimeStepper<Law> {
     const double h = s_.time_step, h2 = h * h;
     const Eigen::Index n = x_.cols();
     // The inertial target and the start (held components at the frame's end).
-    for (Eigen::Index v = 0; v < n; ++v) {
-      const Eigen::Vector3d a_ext = this->f_ext_.col(v) / mass_(v);
-      y_.col(v) = x_n_.col(v) + h * v_.col(v) + h2 * a_ext;
-      Eigen::Vector3d start = x_n_.col(v);
-      if (o_.start == VbdStart::Inertial) {
-        start = y_.col(v);
-      } else if (o_.start == VbdStart::Adaptive) {
-        // Their adaptive initialisation: the last acceleration's component along the external one,
-        // clamped to [0, |a_ext|]; none where no external force acts.
-        Eigen::Vector3d a = Eigen::Vector3d::Zero();
-        const double norm = a_ext.norm();
-        if (norm > 0) a = std::clamp(a_last_.col(v).dot(a_ext / norm), 0.0, norm) * (a_ext / norm);
-        start = x_n_.col(v) + h * v_.col(v) + h2 * a;
-      }
-      for (int i = 0; i < 3; ++i) {
-        x_(i, v) = free_(i, v) != 0 ? start(i) : this->target_(i, v);
-        y_(i, v) = free_(i, v) != 0 ? y_(i, v) : this->target_(i, v);
-      }
-    }
+    this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v) start_at(v, h);
+    });
     bool positive = !keep_positive_ || this->all_positive(x_);
     if (!positive) {
       // The start inverted a tet: begin from x_n, the held nodes moved in stages.
@@ -125,13 +109,15 @@ class VbdSolve : public TetTimeStepper<Law> {
     } else {
       this->move_held_in_stages([&] { sweeps(h2); }, o_.law, stages_);  // a frame costs its sweeps once per stage
     }
-    for (Eigen::Index v = 0; v < n; ++v)
-      for (int i = 0; i < 3; ++i)
-        if (free_(i, v) != 0) {
-          const double v_new = (x_(i, v) - x_n_(i, v)) / h;
-          a_last_(i, v) = (v_new - v_(i, v)) / h;
-          v_(i, v) = v_new;
-        }
+    this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v)
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) != 0) {
+            const double v_new = (x_(i, v) - x_n_(i, v)) / h;
+            a_last_(i, v) = (v_new - v_(i, v)) / h;
+            v_(i, v) = v_new;
+          }
+    });
   }
 
   nlohmann::json own_report() const override {
@@ -149,9 +135,32 @@ class VbdSolve : public TetTimeStepper<Law> {
   int last_iterations() const override { return o_.iterations * stages_; }
 
  private:
+  /// Node v's inertial target y and the frame's first iterate x (held components at
+  /// the frame's end), from the start asked for.
+  void start_at(Eigen::Index v, double h) {
+    const double h2 = h * h;
+    const Eigen::Vector3d a_ext = this->f_ext_.col(v) / mass_(v);
+    y_.col(v) = x_n_.col(v) + h * v_.col(v) + h2 * a_ext;
+    Eigen::Vector3d start = x_n_.col(v);
+    if (o_.start == VbdStart::Inertial) {
+      start = y_.col(v);
+    } else if (o_.start == VbdStart::Adaptive) {
+      // Their adaptive initialisation: the last acceleration's component along the external one,
+      // clamped to [0, |a_ext|]; none where no external force acts.
+      Eigen::Vector3d a = Eigen::Vector3d::Zero();
+      const double norm = a_ext.norm();
+      if (norm > 0) a = std::clamp(a_last_.col(v).dot(a_ext / norm), 0.0, norm) * (a_ext / norm);
+      start = x_n_.col(v) + h * v_.col(v) + h2 * a;
+    }
+    for (int i = 0; i < 3; ++i) {
+      x_(i, v) = free_(i, v) != 0 ? start(i) : this->target_(i, v);
+      y_(i, v) = free_(i, v) != 0 ? y_(i, v) : this->target_(i, v);
+    }
+  }
+
   /// `iterations` sweeps over every colour, with Chebyshev acceleration if asked.
   void sweeps(double h2) {
-    prev1_ = prev2_ = x_;
+    if (o_.chebyshev_rho > 0) prev1_ = prev2_ = x_;
     double omega = 1;
     auto scalar = [this, h2](int p) { update_vertex(p, h2); };
     auto avx2 = [this, h2](int p) { update_vertex_avx2(p, h2); };

@@ -82,22 +82,24 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
     const int n_sub = o_.substeps;
     const double h = s_.time_step / n_sub;
     const double keep = 1 / (1 + o_.damping * h);
-    const Eigen::Index n = x_.cols();
     auto project = [this, h](int p) { project_tet(p, h); };
     if (contact_on())  // allocates only when it grows (the first frame with contact, or more spheres)
       contact_impulse_.resize(spheres_->surface_nodes().size() * static_cast<size_t>(spheres_->spheres()));
     for (int s = 1; s <= n_sub; ++s) {
-      x_sub_ = x_;
       const double along = static_cast<double>(s) / n_sub;
-      for (Eigen::Index v = 0; v < n; ++v)
-        for (int i = 0; i < 3; ++i) {
-          if (free_(i, v) != 0) {
-            v_(i, v) += h * f_ext_(i, v) / mass_(v);
-            x_(i, v) += h * v_(i, v);
-          } else {
-            x_(i, v) = x_n_(i, v) + along * (target_(i, v) - x_n_(i, v));
+      this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+        for (Eigen::Index v = begin; v < end; ++v) {
+          x_sub_.col(v) = x_.col(v);
+          for (int i = 0; i < 3; ++i) {
+            if (free_(i, v) != 0) {
+              v_(i, v) += h * f_ext_(i, v) / mass_(v);
+              x_(i, v) += h * v_(i, v);
+            } else {
+              x_(i, v) = x_n_(i, v) + along * (target_(i, v) - x_n_(i, v));
+            }
           }
         }
+      });
       lambda_d_.setZero();
       lambda_h_.setZero();
       std::fill(held_push_.begin(), held_push_.end(), Eigen::Matrix<double, 3, 4>::Zero());
@@ -107,9 +109,11 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
         if (contact_on()) project_spheres();
       }
       if (contact_on()) mark_pushed_nodes();
-      for (Eigen::Index v = 0; v < n; ++v)
-        for (int i = 0; i < 3; ++i)
-          if (free_(i, v) != 0) v_(i, v) = keep * (x_(i, v) - x_sub_(i, v)) / h;
+      this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+        for (Eigen::Index v = begin; v < end; ++v)
+          for (int i = 0; i < 3; ++i)
+            if (free_(i, v) != 0) v_(i, v) = keep * (x_(i, v) - x_sub_(i, v)) / h;
+      });
     }
   }
 
@@ -174,13 +178,13 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   /// incompressibility lambda' (det F - alpha) there is far from what the projections
   /// apply (docs/realtime_nonlinear.md). A tet held entirely is never projected: the
   /// law's V P g_a, which its multipliers would reach.
-  void add_held_internal_force(Eigen::VectorXd& f) const override {
+  void add_held_internal_force(Eigen::VectorXd& f) override {
     const double h = s_.time_step / o_.substeps;
     for (size_t slot = 0; slot < slot_position_.size(); ++slot) {
       const TetInSweep& tet = tets_[static_cast<size_t>(slot_position_[slot])];
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet.nodes[static_cast<size_t>(a)]) -= held_push_[slot].col(a) / (h * h);
     }
-    for (int t : held_entirely_) add_law_internal_force(t, f);
+    add_law_internal_force(held_entirely_, f);
   }
 
   /// Where contact_impulse_ holds surface vertex `vertex`'s sum for sphere k.

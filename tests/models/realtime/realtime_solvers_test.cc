@@ -18,6 +18,9 @@
 #include "settled_cube.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
+#include "lame_parameters.h"
+#include "neo_hookean.h"
+#include "tet_time_stepping.h"
 #include "load_mapping.h"
 #include "test_support.h"
 #include "vbd_solve.h"
@@ -378,6 +381,63 @@ TEST(RealtimeSteppers, TwoThreadsGiveTheOneThreadAnswerBitwise) {
     EXPECT_EQ(support[0], support[1]) << testing::name(which);
     EXPECT_GT(u[0].norm(), 0);
   }
+}
+
+// A stepper whose frame moves one free node to a given place (and nothing else): a
+// way to hand the frame's reactions an inverted tet.
+class MovingOneNode : public TetTimeStepper<NeoHookean> {
+ public:
+  MovingOneNode(const ElasticBody& body, const TimeStepping& stepping, int node, const Eigen::Vector3d& to)
+      : TetTimeStepper<NeoHookean>(body, NeoHookean(lame_parameters(body.material())), stepping, "moving_one_node"),
+        node_(node),
+        to_(to) {}
+
+ protected:
+  void advance() override { x_.col(node_) = to_; }
+  nlohmann::json own_report() const override { return nlohmann::json::object(); }
+
+ private:
+  int node_;
+  Eigen::Vector3d to_;
+};
+
+// The reactions evaluate the law at the tets beside the held nodes on the thread team,
+// where a task may not throw: a frame that leaves such a tet inverted under a law
+// undefined there stops with the law's one-line error from the caller's thread, the
+// same on two threads as on one.
+TEST(RealtimeSteppers, AnInvertedTetBesideTheSupportGivesTheLawsErrorOnAnyTeam) {
+  const SmallCube c;
+  const ElasticBody body(c.mesh, kMaterial, c.clamped());
+  // A tet with a face on the clamped base: its fourth node moved below the base inverts it.
+  int free_node = -1;
+  for (Eigen::Index t = 0; t < c.mesh.T.rows() && free_node < 0; ++t) {
+    int on_base = 0, above = -1;
+    for (int a = 0; a < 4; ++a) {
+      if (c.mesh.V(c.mesh.T(t, a), 2) < 1e-12) ++on_base;
+      else above = c.mesh.T(t, a);
+    }
+    if (on_base == 3) free_node = above;
+  }
+  ASSERT_GE(free_node, 0);
+  const Eigen::Vector3d below = c.mesh.V.row(free_node).transpose() - Eigen::Vector3d(0, 0, 2 * c.mesh.V(free_node, 2));
+  const BodyLoads none(body, {});
+  std::string what[2];
+  for (int threads : {1, 2}) {
+    TimeStepping stepping;
+    stepping.threads = threads;
+    MovingOneNode stepper(body, stepping, free_node, below);
+    ElasticFrame frame(body, none, stepper);
+    Eigen::VectorXd u;
+    try {
+      frame.step({}, {}, u);
+      ADD_FAILURE() << "an inverted tet's reaction was evaluated on " << threads << " thread(s)";
+    } catch (const std::domain_error& e) {
+      what[threads - 1] = e.what();
+    }
+  }
+  EXPECT_NE(what[0].find("neo_hookean"), std::string::npos) << what[0];
+  EXPECT_EQ(what[0].find('\n'), std::string::npos) << what[0];
+  EXPECT_EQ(what[1], what[0]);
 }
 
 // A plate that moves the top 16 mm down in one frame (cells are 10 mm tall) would
