@@ -8,9 +8,12 @@
 //   H_i dx_i = -(m_i / h^2 (x_i - y_i) + sum_{t at i} V_t P(F_t) g_t,i),
 //   H_i = m_i / h^2 I + sum_{t at i} V_t node_stiffness(F_t, g_t,i),
 // vertices coloured so that a colour's vertices (sharing no tet) move in parallel.
-// A fixed point of the sweeps is the step's minimiser, so the steady state is the
-// static equilibrium of the law whatever the iteration count; iterations decide how
-// close a frame gets to the implicit-Euler step (docs/realtime_nonlinear.md).
+// A fixed point of the sweeps is the step's minimiser, so, for a start that is x_n
+// once the body is at rest (the last positions; the adaptive start), the steady state
+// is the static equilibrium of the law whatever the iteration count; iterations decide
+// how close a frame gets to the implicit-Euler step (docs/realtime_nonlinear.md). From
+// the inertial target the sweeps must carry the iterate back to x_n, and the steady
+// state is off the equilibrium by what `iterations` sweeps leave unconverged.
 //
 // The law is any of numerics/materials (the VBD paper uses stable neo-Hookean). For
 // a law undefined at det F <= 0 (neo_hookean) a vertex's step is halved until its
