@@ -2,11 +2,13 @@
 paper shows (paper_values.json "figure5_case": the hybrid).
 
 Usage: /usr/bin/python3 analysis/figure5.py [results/paper] [results/figures]
-Reads the liver scenarios' cases (roles liver_pull and liver_push): the surface at
-rest from the pull case's surface.csv (every surface vertex, rest coordinates to 17
-digits, the fine surface's order), the triangles and deformed surfaces from each
-case's surface.vtu. The liver's mesh folder is not needed (it derives from
-third-party data and is not committed: README "Data").
+Reads the liver scenarios' cases (roles liver_pull and liver_push): each case's
+surface.csv (displacement by surface vertex, no coordinates) and the liver's rest
+surface, points and triangles, from the mesh folder the run wrote
+(<scenario>/mesh/fine_surface.vtu). That folder derives from third-party data and
+is not committed (README "Data"): the figure is remade where the liver was run
+(scripts/reproduce), and analysis/reproduce.py says so and goes on without it
+elsewhere.
 """
 import os
 import sys
@@ -26,15 +28,16 @@ def make(exp_dir, out):
     for lc, cases in folders.items():
         if case not in cases:
             raise results_index.ResultsError(f"{exp.root}: the {ROLES['liver'][lc]} scenario has no '{case}' results")
-    pull = folders["pull"][case]["folder"]
-    ids, rest_pts, _ = metrics.read_displacements(os.path.join(pull, "surface.csv"))
-    if not (ids == np.arange(len(ids))).all():
-        raise ValueError(f"{pull}/surface.csv: vertices not in surface order")
-    _, tris, _ = read_vtu(os.path.join(pull, "surface.vtu"))
+    pull = folders["pull"][case]
+    rest_pts = results_index.observed_rest(pull, "surface.csv")
+    _, tris, _ = read_vtu(os.path.join(os.path.dirname(pull["folder"]), "mesh", "fine_surface.vtu"))
     views = [("rest", rest_pts, np.zeros(len(rest_pts)))]
     for lc in LOAD_CASES:
-        pts, _, f = read_vtu(os.path.join(folders[lc][case]["folder"], "surface.vtu"))
-        views.append((f"{case}, {lc}", pts, f["displacement_magnitude"][:, 0]))
+        folder = folders[lc][case]["folder"]
+        ids, _, u = metrics.read_displacements(os.path.join(folder, "surface.csv"))
+        if not (ids == np.arange(len(rest_pts))).all():
+            raise results_index.ResultsError(f"{folder}/surface.csv: not the {len(rest_pts)} surface vertices in order")
+        views.append((f"{case}, {lc}", rest_pts + u, np.linalg.norm(u, axis=1)))
     vmax = max(v[2].max() for v in views)
     fig = plt.figure(figsize=(15, 5))
     for k, (title, pts, val) in enumerate(views):

@@ -97,17 +97,17 @@ class Observables:
         if name not in self._read:
             folder = self.cases[name]["folder"]
             try:
-                _, rest, u = metrics.read_displacements(os.path.join(folder, "top_surface.csv"))
+                observed = metrics.read_displacements(os.path.join(folder, "top_surface.csv"))
                 probes, forces = leaderboard.probe_displacements(folder), leaderboard.final_tool_forces(folder)
             except (OSError, ValueError, IndexError) as e:  # ResultsError is a ValueError
                 raise ResultsError(f"{folder}: unreadable results ({e})")
             if name != self.ref:
-                rest_ref, _, probes_ref, _ = self.of(self.ref)
-                if rest.shape != rest_ref.shape or not np.array_equal(rest, rest_ref):
+                observed_ref, _, probes_ref, _ = self.of(self.ref)
+                if not results_index.same_vertices(observed, observed_ref):
                     raise ResultsError(f"{folder}: observed vertices differ from the reference's (another mesh?)")
                 if probes is not None and probes_ref is not None and probes.shape != probes_ref.shape:
                     raise ResultsError(f"{folder}/probes.csv: {len(probes)} probes, the reference has {len(probes_ref)}")
-            self._read[name] = (rest, u, probes, forces)
+            self._read[name] = (observed, observed[2], probes, forces)
         return self._read[name]
 
     def field(self, a, b):

@@ -9,15 +9,24 @@ import csv
 import numpy as np
 
 
+WITH_COORDINATES = ["vertex", "x", "y", "z", "ux", "uy", "uz"]
+# A mesh read from a third-party file (README "Data"): the runner writes no coordinates.
+WITHOUT_COORDINATES = ["vertex", "ux", "uy", "uz"]
+
+
 def read_displacements(path):
-    """Reads a top_surface.csv / surface.csv: returns (ids #V, rest #Vx3, u #Vx3)."""
+    """Reads a top_surface.csv / surface.csv: returns (ids #V, rest #Vx3, u #Vx3);
+    rest is None when the file gives no coordinates (a third-party mesh's case:
+    results_index.observed_rest finds them in the run's mesh folder)."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
-    if not rows or rows[0] != ["vertex", "x", "y", "z", "ux", "uy", "uz"]:
+    if not rows or rows[0] not in (WITH_COORDINATES, WITHOUT_COORDINATES):
         raise ValueError(f"{path}: not a tissuebench displacement CSV (bad header)")
     data = np.array(rows[1:], dtype=float)
     if data.size == 0:
         raise ValueError(f"{path}: no vertices")
+    if rows[0] == WITHOUT_COORDINATES:
+        return data[:, 0].astype(int), None, data[:, 1:4]
     return data[:, 0].astype(int), data[:, 1:4], data[:, 4:7]
 
 
@@ -54,22 +63,25 @@ def extended(u, u_ref, rest, load_point, exclude_radius=0.01):
     return out
 
 
-def compare(u, u_ref, rest, load_point):
+def compare(u, u_ref, rest, load_point, load_row=None):
     """Metrics of u (#V x 3) against u_ref (#V x 3) at the same vertices.
 
     corr_uz:   Pearson r of the z displacements (the paper's table 1)
     corr_mag:  Pearson r of |u|
     rel_l2:    ||u - u_ref|| / ||u_ref|| (Frobenius over all vertices)
     max_error: max over vertices of |u - u_ref| (m)
-    load_ratio: |u| / |u_ref| at the vertex nearest the load point
+    load_ratio: |u| / |u_ref| at the vertex nearest the load point: the row
+                `load_row` when given, else found from `rest`; nan when neither is
     """
     u = np.asarray(u, float)
     u_ref = np.asarray(u_ref, float)
     if u.shape != u_ref.shape:
         raise ValueError(f"shape mismatch {u.shape} vs {u_ref.shape}")
     ref_norm = np.linalg.norm(u_ref)
-    k = int(np.argmin(np.linalg.norm(np.asarray(rest) - np.asarray(load_point), axis=1)))
-    ref_at_load = np.linalg.norm(u_ref[k])
+    k = load_row
+    if k is None and rest is not None:
+        k = int(np.argmin(np.linalg.norm(np.asarray(rest) - np.asarray(load_point), axis=1)))
+    ref_at_load = np.linalg.norm(u_ref[k]) if k is not None else 0.0
     return {
         "corr_uz": pearson(u[:, 2], u_ref[:, 2]),
         "corr_mag": pearson(np.linalg.norm(u, axis=1), np.linalg.norm(u_ref, axis=1)),

@@ -14,6 +14,8 @@ import os
 import re
 import sys
 
+import numpy as np
+
 import metrics
 
 
@@ -167,14 +169,57 @@ def load_point(case):
     return scenario["load"]["point"]
 
 
+def same_vertices(a, b):
+    """Whether two read_displacements results hold the same vertices: the same
+    indices and, where both give them, the same rest coordinates."""
+    (ids_a, rest_a, _), (ids_b, rest_b, _) = a, b
+    if not np.array_equal(ids_a, ids_b) or (rest_a is None) != (rest_b is None):
+        return False
+    return rest_a is None or np.array_equal(rest_a, rest_b)
+
+
+def observed_rest(case, observed="top_surface.csv"):
+    """The rest coordinates (#V x 3) of a case's vertices in `observed`: from the
+    file, or, when it gives none (a mesh read from a third-party file, whose geometry
+    the repository does not hold: README "Data"), from the fine surface of the mesh
+    folder the run wrote beside the case (<scenario>/mesh/, never committed)."""
+    ids, rest, _ = metrics.read_displacements(os.path.join(case["folder"], observed))
+    if rest is not None:
+        return rest
+    surface = os.path.join(os.path.dirname(case["folder"]), "mesh", "fine_surface.vtu")
+    if not os.path.isfile(surface):
+        raise ResultsError(f"{case['folder']}/{observed}: no coordinates (a third-party mesh, README 'Data') and "
+                           f"no {surface} to take them from: rerun the scenario here (with its mesh output)")
+    from vtu_plot import read_vtu  # matplotlib: only when a figure or a distance needs the geometry
+    points = read_vtu(surface)[0]
+    if ids.max() >= len(points):
+        raise ResultsError(f"{surface}: {len(points)} vertices, {observed} names vertex {ids.max()} (another mesh?)")
+    return points[ids]
+
+
+def observed_load_row(case, ids):
+    """The row of `ids` holding the observed vertex the runner found nearest the load
+    point (run.json "observed_vertex_nearest_load"), None when it names none."""
+    vertex = case["run"].get("observed_vertex_nearest_load")
+    rows = np.flatnonzero(ids == vertex) if vertex is not None else []
+    return int(rows[0]) if len(rows) else None
+
+
 def case_metrics(case, reference_case, observed="top_surface.csv", extended=False):
     """metrics.compare (or metrics.extended) of one case's displacements against
-    another's, at the same vertices."""
-    _, rest, u_ref = metrics.read_displacements(os.path.join(reference_case["folder"], observed))
-    _, rest2, u = metrics.read_displacements(os.path.join(case["folder"], observed))
-    if rest.shape != rest2.shape or not (rest == rest2).all():
+    another's, at the same vertices. Without coordinates in the files, the vertex at
+    the load is the one run.json names, and metrics.extended's distances take the
+    rest surface from the run's mesh folder (observed_rest)."""
+    ref_read = metrics.read_displacements(os.path.join(reference_case["folder"], observed))
+    case_read = metrics.read_displacements(os.path.join(case["folder"], observed))
+    if not same_vertices(ref_read, case_read):
         raise ValueError(f"{case['folder']}: observed vertices differ from {reference_case['folder']}'s")
-    return (metrics.extended if extended else metrics.compare)(u, u_ref, rest, load_point(case))
+    ids, rest, u = case_read
+    u_ref = ref_read[2]
+    if extended:
+        return metrics.extended(u, u_ref, rest if rest is not None else observed_rest(case, observed),
+                                load_point(case))
+    return metrics.compare(u, u_ref, rest, load_point(case), None if rest is not None else observed_load_row(case, ids))
 
 
 def load_experiment(root):

@@ -32,12 +32,14 @@ def read_triangles(obj_path):
     return np.array(faces, dtype=int)
 
 
-def inverted_triangles(surface_csv, triangles):
-    """Surface triangles whose normal has turned more than 90 degrees from its rest
-    normal (a crumpled or folded surface can meet the steady-state test too)."""
-    ids, rest, u = metrics.read_displacements(surface_csv)
+def inverted_triangles(case, triangles):
+    """Surface triangles of a case whose normal has turned more than 90 degrees from
+    its rest normal (a crumpled or folded surface can meet the steady-state test too)."""
+    surface_csv = os.path.join(case["folder"], "surface.csv")
+    ids, _, u = metrics.read_displacements(surface_csv)
     if not (ids == np.arange(len(ids))).all():
         raise ValueError(f"{surface_csv}: vertices not in surface order")
+    rest = results_index.observed_rest(case, "surface.csv")
     x = rest + u
 
     def normals(p):
@@ -72,7 +74,7 @@ def point_rows(exp_dir):
                 row["metrics"] = exp.metrics(scenario, case) if ref in cases else None
                 row["parameters"] = run.get("parameters", {})
                 mesh_obj = os.path.join(exp.root, scenario, "mesh", "fine_surface.obj")
-                row["inverted"] = (inverted_triangles(os.path.join(c["folder"], "surface.csv"), read_triangles(mesh_obj))
+                row["inverted"] = (inverted_triangles(c, read_triangles(mesh_obj))
                                    if os.path.isfile(mesh_obj) else None)
             else:
                 row["failure"] = exp.failure(scenario, case)

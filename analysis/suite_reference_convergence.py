@@ -83,10 +83,27 @@ def dofs_of(case):
     return 3 * int(case["run"]["mesh"]["fine_nodes"])
 
 
-def qois(role, case, rest0, beads):
+def level0_rows(level0, observed, folder):
+    """The rows of `observed` (read_displacements) at the level-0 vertices `level0`
+    (ids, rest): matched by coordinates, or, in files without them (a third-party
+    mesh), by index: a refined surface keeps the level-0 vertices first, at the same
+    indices (meshing/surface_subdivision.h), and an order-2 run has its level's."""
+    (ids0, rest0), (ids, rest, _) = level0, observed
+    if rest0 is not None and rest is not None:
+        return match_vertices(rest0, rest, MATCH_TOLERANCE)
+    row = {v: k for k, v in enumerate(ids)}
+    missing = [v for v in ids0 if v not in row]
+    if missing:
+        raise ResultsError(f"{folder}/top_surface.csv: no level-0 vertex {missing[0]} (another surface?)")
+    return np.array([row[v] for v in ids0], dtype=int)
+
+
+def qois(role, case, level0, beads):
     """The observed field at the level-0 vertices (#V0 x 3, m) and the scalar QoIs."""
-    _, rest, u = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
-    u0 = u[match_vertices(rest0, rest, MATCH_TOLERANCE)]
+    observed = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
+    u = observed[2]
+    u0 = u[level0_rows(level0, observed, case["folder"])]
+    rest0 = level0[1]
     q = {}
     if role.startswith("cube_") and role != "cube_palpation":  # the sphere moves off the top centre
         k = int(np.argmin(np.linalg.norm(rest0 - CUBE_LOAD_POINT, axis=1)))
@@ -174,10 +191,10 @@ class Study:
         runs = self.cases[role]
         if (1, 0) not in runs:
             raise ResultsError(f"{role}: no level-0 P1 run (the suite's mesh): the level-0 vertices are its")
-        _, rest0, _ = metrics.read_displacements(os.path.join(runs[(1, 0)]["folder"], "top_surface.csv"))
+        level0 = metrics.read_displacements(os.path.join(runs[(1, 0)]["folder"], "top_surface.csv"))[:2]
         rows = {}
         for key, case in runs.items():
-            u0, q = qois(role, case, rest0, self.beads)
+            u0, q = qois(role, case, level0, self.beads)
             rows[key] = {"role": role, "order": key[0], "level": key[1], "dofs": dofs_of(case), "u": u0, "qoi": q,
                          "case": case}
         finest = finest_key(rows, runs)

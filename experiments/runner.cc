@@ -111,6 +111,25 @@ std::vector<int> observed_vertices(const Scenario& s, const Points& V) {
   return out;
 }
 
+/// The vertex of `observed` (not empty) nearest `p`, the first of equals.
+int nearest_observed(const std::vector<int>& observed, const Points& V, const Eigen::Vector3d& p) {
+  int best = observed.front();
+  for (int v : observed)
+    if ((V.row(v).transpose() - p).squaredNorm() < (V.row(best).transpose() - p).squaredNorm()) best = v;
+  return best;
+}
+
+/// Geometry read from a third-party file (a scenario's data: mesh, README "Data") is
+/// not copied into the case's CSVs: they give the displacement by surface vertex
+/// index alone, and run.json names the observed vertex nearest the load point (what
+/// the analysis would otherwise find from the coordinates). surface.vtu, the field a
+/// researcher opens in ParaView, still holds the deformed surface; result trees
+/// commit it only for the project's own geometry (.gitignore, tests/analysis/
+/// test_third_party_geometry.py).
+bool geometry_from_data(const Scenario& s) {
+  return !s.mesh.surface_reference.empty() || !s.mesh.coarse_reference.empty();
+}
+
 /// The surface vertices whose every frame a dynamic case records (trajectory.csv):
 /// the observed vertex nearest each point where a load or a grasp or sphere acts,
 /// then at most kTrackedSpread observed vertices evenly spread through their list.
@@ -122,12 +141,7 @@ std::vector<int> tracked_vertices(const Scenario& s, const Points& V) {
   auto add = [&](int v) {
     if (std::find(out.begin(), out.end(), v) == out.end()) out.push_back(v);
   };
-  auto nearest = [&](const Eigen::Vector3d& p) {
-    int best = observed.front();
-    for (int v : observed)
-      if ((V.row(v).transpose() - p).squaredNorm() < (V.row(best).transpose() - p).squaredNorm()) best = v;
-    return best;
-  };
+  auto nearest = [&](const Eigen::Vector3d& p) { return nearest_observed(observed, V, p); };
   const LoadCase load_case = s.load_case();
   for (const Load& load : load_case.loads)
     if (load.kind != LoadKind::BodyForce) add(nearest(load.point));
@@ -142,12 +156,16 @@ std::vector<int> tracked_vertices(const Scenario& s, const Points& V) {
 /// which its transient is compared with the implicit-Euler reference's (docs/suite.md).
 constexpr int kTrajectoryFrames = 200;
 
-std::string csv_of(const Points& rest, const Displacements& u, const std::vector<int>& vertices) {
+/// The displacement CSV of `vertices`: with their rest coordinates, or (geometry
+/// from a third-party file) without.
+std::string csv_of(const Points& rest, const Displacements& u, const std::vector<int>& vertices, bool coordinates) {
   std::ostringstream os;
-  os << std::setprecision(17) << "vertex,x,y,z,ux,uy,uz\n";
-  for (int v : vertices)
-    os << v << ',' << rest(v, 0) << ',' << rest(v, 1) << ',' << rest(v, 2) << ',' << u(v, 0) << ',' << u(v, 1) << ','
-       << u(v, 2) << '\n';
+  os << std::setprecision(17) << (coordinates ? "vertex,x,y,z,ux,uy,uz\n" : "vertex,ux,uy,uz\n");
+  for (int v : vertices) {
+    os << v << ',';
+    if (coordinates) os << rest(v, 0) << ',' << rest(v, 1) << ',' << rest(v, 2) << ',';
+    os << u(v, 0) << ',' << u(v, 1) << ',' << u(v, 2) << '\n';
+  }
   return os.str();
 }
 
@@ -308,14 +326,16 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   j["last_frame_change_m"] = last_change;
   j["max_displacement_m"] = u.rowwise().norm().maxCoeff();
   j["observed_vertices"] = s.observed;
+  j["observed_coordinates"] = !geometry_from_data(s);
+  if (s.has_load) j["observed_vertex_nearest_load"] = nearest_observed(observed_vertices(s, rest), rest, s.load.point);
   if (!tracked.empty())
-    j["trajectory"] = {{"file", "trajectory.csv"},
-                       {"frames", std::min(out.frames, kTrajectoryFrames)},
-                       {"vertices", tracked},
-                       {"how", "the displacement of these surface vertices at each of the first " +
-                                   std::to_string(kTrajectoryFrames) +
-                                   " frames: the observed vertex nearest each load, grasp and sphere, then " +
-                                   std::to_string(kTrackedSpread) + " observed vertices spread through their list"}};
+    j["trajectory"] = {
+        {"file", "trajectory.csv"},
+        {"frames", std::min(out.frames, kTrajectoryFrames)},
+        {"vertices", tracked},
+        {"how", "the displacement of these surface vertices at each of the first " + std::to_string(kTrajectoryFrames) +
+                    " frames: the observed vertex nearest each load, grasp and sphere, then " +
+                    std::to_string(kTrackedSpread) + " observed vertices spread through their list"}};
   j["mesh"] = mesh_summary;
   // What the model measured beside the surface, and how (or why not).
   if (!s.tools.empty() || s.probes.rows() > 0) {
@@ -370,7 +390,9 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   if (!processes.is_null()) t["processes"] = processes;
   write_file_atomically((staging / "timings.json").string(), t.dump(1) + "\n");
 
-  write_file_atomically((staging / "top_surface.csv").string(), csv_of(rest, u, observed_vertices(s, rest)));
+  const bool coordinates = !geometry_from_data(s);
+  write_file_atomically((staging / "top_surface.csv").string(),
+                        csv_of(rest, u, observed_vertices(s, rest), coordinates));
   if (!tracked.empty()) {
     // Wide: a row per frame, three columns per tracked vertex (its index in the header).
     std::ostringstream csv;
@@ -387,7 +409,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   }
   std::vector<int> all(static_cast<size_t>(rest.rows()));
   for (size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
-  write_file_atomically((staging / "surface.csv").string(), csv_of(rest, u, all));
+  write_file_atomically((staging / "surface.csv").string(), csv_of(rest, u, all, coordinates));
   if (!s.tools.empty() && !reactions.empty()) {
     // The force the tissue exerts on each tool and on the support, every frame (N).
     std::ostringstream csv;
@@ -596,8 +618,8 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         int mesh_writer = -1;
         for (const CaseAssignment& a : plan[i])
           if (a.selected && (mesh_writer < 0 || a.shared)) mesh_writer = a.writer;
-        found = prepared.emplace(i, prepare(s, many && phase == 0, opt.write_meshes && mesh_writer == opt.process))
-                    .first;
+        found =
+            prepared.emplace(i, prepare(s, many && phase == 0, opt.write_meshes && mesh_writer == opt.process)).first;
       }
       const PreparedScenario& p = found->second;
       for (size_t k : mine) {

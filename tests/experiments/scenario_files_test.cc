@@ -14,6 +14,7 @@
 
 #include "atomic_file.h"
 #include "file_schema.h"
+#include "mesh_io.h"
 #include "scenario_fixture.h"
 
 namespace tb {
@@ -275,6 +276,55 @@ TEST_F(DataFiles, TheFlagWinsOverTheEnvironmentWhichWinsOverTheDefault) {
   EXPECT_EQ(data_dir(data).path, data);
   EXPECT_EQ(load_experiment(file, data_dir(data)).scenarios.at(0).mesh.surface_file, data + "/meshes/tet.obj");
   ::unsetenv("TISSUEBENCH_DATA");
+}
+
+TEST_F(DataFiles, ACaseOnADataMeshWritesDisplacementsWithoutTheFilesCoordinates) {
+  // The small cube's fine surface, written by a run of it, stands for a third-party mesh.
+  auto own = small_cube();
+  own["models"] = nlohmann::json::array({{{"name", "fem-direct"}, {"model", "fem"}}});
+  RunOptions o;
+  o.progress = false;
+  o.out_dir = (dir / "own").string();
+  ASSERT_TRUE(run_experiment(load_experiment(write("own.json", own)), o).at(0).ok);
+  const fs::path own_case = dir / "own/small/small/fem-direct";
+  fs::create_directories(dir / "data/meshes");
+  fs::copy_file(dir / "own/small/small/mesh/fine_surface.obj", dir / "data/meshes/box.obj");
+
+  auto j = own;
+  j["name"] = "from-data";
+  j["mesh"] = {{"type", "files"},
+               {"surface", "data:meshes/box.obj"},
+               {"fine_tetgen", {{"max_volume", 2e-6}}},
+               {"coarse_selection", {{"target_nodes", 30}}}};
+  o.out_dir = (dir / "data-run").string();
+  const std::string file = write("from-data.json", j);
+  ASSERT_TRUE(run_experiment(load_experiment(file, data_dir((dir / "data").string())), o).at(0).ok);
+  const fs::path data_case = dir / "data-run/from-data/from-data/fem-direct";
+
+  auto header = [](const fs::path& csv) {
+    return read_file(csv.string()).substr(0, read_file(csv.string()).find('\n'));
+  };
+  for (const char* f : {"top_surface.csv", "surface.csv"}) {
+    EXPECT_EQ(header(own_case / f), "vertex,x,y,z,ux,uy,uz") << f;  // the project's own geometry
+    EXPECT_EQ(header(data_case / f), "vertex,ux,uy,uz") << f;
+  }
+  const auto own_run = nlohmann::json::parse(read_file((own_case / "run.json").string()));
+  const auto data_run = nlohmann::json::parse(read_file((data_case / "run.json").string()));
+  EXPECT_TRUE(own_run["observed_coordinates"].get<bool>());
+  EXPECT_FALSE(data_run["observed_coordinates"].get<bool>());
+  // The vertex the analysis takes as the load's: the observed (top) vertex nearest
+  // the load point, found here from the surface the run wrote into its mesh folder.
+  const SurfaceMesh surface = read_surface((dir / "data-run/from-data/from-data/mesh/fine_surface.vtu").string());
+  const Eigen::Vector3d load(0, 0, 0.1);
+  const double top = surface.V.col(2).maxCoeff();
+  int nearest = -1;
+  for (Eigen::Index v = 0; v < surface.V.rows(); ++v)
+    if (std::abs(surface.V(v, 2) - top) <= 1e-9 &&
+        (nearest < 0 ||
+         (surface.V.row(v).transpose() - load).norm() < (surface.V.row(nearest).transpose() - load).norm()))
+      nearest = static_cast<int>(v);
+  EXPECT_EQ(data_run["observed_vertex_nearest_load"].get<int>(), nearest);
+  EXPECT_NEAR(surface.V(nearest, 0), 0.0, 0.02);  // the top centre, about
 }
 
 TEST(DataDirectory, TheLiverScenarioReadsTheSharedMeshesFromTheDefaultDataDirectory) {
