@@ -1,6 +1,7 @@
 #include "vbd_solve.h"
 
 #include <array>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,19 +14,26 @@ namespace {
 
 const char* start_name(VbdStart s) {
   switch (s) {
-    case VbdStart::Previous: return "previous";
-    case VbdStart::Inertial: return "inertial";
-    case VbdStart::Adaptive: return "adaptive";
+    case VbdStart::Previous:
+      return "previous";
+    case VbdStart::Inertial:
+      return "inertial";
+    case VbdStart::Adaptive:
+      return "adaptive";
   }
   return "";
 }
 
 const char* kernels_name(VbdKernels k) {
   switch (k) {
-    case VbdKernels::Auto: return "auto";
-    case VbdKernels::Avx2: return "avx2";
-    case VbdKernels::Sse2: return "sse2";
-    case VbdKernels::Scalar: return "scalar";
+    case VbdKernels::Auto:
+      return "auto";
+    case VbdKernels::Avx2:
+      return "avx2";
+    case VbdKernels::Sse2:
+      return "sse2";
+    case VbdKernels::Scalar:
+      return "scalar";
   }
   return "";
 }
@@ -34,11 +42,13 @@ const char* kernels_name(VbdKernels k) {
 /// Throws std::invalid_argument for lanes the CPU or the law does not have.
 VbdKernels kernels_to_run(VbdKernels asked, bool law_has_lanes, const std::string& law) {
   const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (asked == VbdKernels::Auto) return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
+  if (asked == VbdKernels::Auto)
+    return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
   if (asked != VbdKernels::Scalar && !law_has_lanes)
     throw std::invalid_argument(std::string("vbd: kernels ") + kernels_name(asked) + " need a law with batched node " +
                                 "terms (neo_hookean); material_law " + law + " has none");
-  if (asked == VbdKernels::Avx2 && !avx2) throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
+  if (asked == VbdKernels::Avx2 && !avx2)
+    throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
   return asked;
 }
 
@@ -76,6 +86,8 @@ class VbdSolve : public TetTimeStepper<Law> {
     if (o_.iterations < 1) throw std::invalid_argument("vbd: iterations must be at least 1");
     if (!(o_.chebyshev_rho >= 0 && o_.chebyshev_rho < 1))
       throw std::invalid_argument("vbd: chebyshev_rho must lie in [0, 1)");
+    if (!(o_.damping >= 0 && std::isfinite(o_.damping)))
+      throw std::invalid_argument("vbd: damping must be finite and at least 0");
     const Eigen::Index n = x_.cols();
     std::vector<int> moving;
     for (Eigen::Index v = 0; v < n; ++v)
@@ -125,6 +137,7 @@ class VbdSolve : public TetTimeStepper<Law> {
             {"material_law", o_.law},
             {"iterations", o_.iterations},
             {"chebyshev_rho", o_.chebyshev_rho},
+            {"damping", o_.damping},
             {"start", start_name(o_.start)},
             {"kernels", kernels_name(kernels_)},
             {"vertex_colours", colours_.size()},
@@ -269,6 +282,7 @@ class VbdSolve : public TetTimeStepper<Law> {
       H += visit.volume * terms.stiffness;
       if (cached) det_change[static_cast<size_t>(k)] << terms.cof_g, terms.J;
     }
+    damp(v, from, h2, gradient, H);
     step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) {
       return cached ? positive_after(det_change, count, dx) : positive_around(visits, count, from + dx);
     });
@@ -290,14 +304,16 @@ class VbdSolve : public TetTimeStepper<Law> {
       const int count = block_begin_[static_cast<size_t>(p) + 1] - block_begin_[static_cast<size_t>(p)];
       const bool cached = count <= kCachedBlocks;
       std::array<BlockDeterminants<L>, kCachedBlocks> dets;
-      const int bad = add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H,
-                                         cached ? dets.data() : nullptr);
+      const int bad =
+          add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H, cached ? dets.data() : nullptr);
       if (bad >= 0) throw_at_lane(v, blocks[bad / kVisitLanes], bad % kVisitLanes, from);
+      damp(v, from, h2, gradient, H);
       // Inlined (as the lanes' kernels are) into the per-instruction-set caller.
-      step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
-        return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
-                      : blocks_above_at<L>(blocks, count, x_.data(), from + dx, kMinDet);
-      });
+      step(
+          v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
+            return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
+                          : blocks_above_at<L>(blocks, count, x_.data(), from + dx, kMinDet);
+          });
     }
   }
   __attribute__((target("avx2,fma"))) void update_vertex_avx2(int p, double h2) {
@@ -310,6 +326,20 @@ class VbdSolve : public TetTimeStepper<Law> {
     const double m = mass_(v) / h2;
     gradient = m * (x_.col(v) - y_.col(v));
     H = m * Eigen::Matrix3d::Identity();
+  }
+
+  /// Chen et al. 2024's damping ("Damping") in vertex v's Newton system, whose H holds
+  /// the inertial m / h^2 I and the tets' elastic block H_e: with d = k_d / h,
+  /// gradient += d H_e (x - x_n) and H += d H_e. Where H_e is indefinite (neo_hookean
+  /// dilated beyond J = e^(1 + mu / lambda)) step()'s Cholesky test decides as without.
+  [[gnu::always_inline]] void damp(int v, const Eigen::Vector3d& from, double h2, Eigen::Vector3d& gradient,
+                                   Eigen::Matrix3d& H) const {
+    if (o_.damping == 0) return;
+    const double d = o_.damping / s_.time_step;
+    Eigen::Matrix3d elastic = H;
+    elastic.diagonal().array() -= mass_(v) / h2;
+    gradient += d * (elastic * (from - x_n_.col(v)));
+    H += d * elastic;
   }
 
   /// The law's own error for the tet in lane l of a block, whose det F the batched
@@ -420,17 +450,17 @@ class VbdSolve : public TetTimeStepper<Law> {
 
   VbdSettings o_;
   bool keep_positive_;
-  VbdKernels kernels_;  ///< the kernels it runs (never Auto)
-  bool batched_;        ///< the tets four at a time (vbd_visit_blocks.h)
-  std::vector<int> order_;        ///< the moving vertices in sweep order
-  std::vector<TetVisit> visits_;  ///< their tets, in sweep order (lay_out_visits)
-  std::vector<int> visit_begin_;  ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
+  VbdKernels kernels_;              ///< the kernels it runs (never Auto)
+  bool batched_;                    ///< the tets four at a time (vbd_visit_blocks.h)
+  std::vector<int> order_;          ///< the moving vertices in sweep order
+  std::vector<TetVisit> visits_;    ///< their tets, in sweep order (lay_out_visits)
+  std::vector<int> visit_begin_;    ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
   std::vector<VisitBlock> blocks_;  ///< the visits four to a block (batched_; visits_ is then empty)
   std::vector<int> block_begin_;    ///< per sweep position p, where its blocks begin (#order_ + 1; batched_)
-  Colouring colours_;             ///< the vertex colours, as sweep positions
-  typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
-  Eigen::Matrix3Xd y_;                       ///< the inertial target
-  Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
+  Colouring colours_;               ///< the vertex colours, as sweep positions
+  typename Base::Shares shares_;    ///< each thread's part of each colour, by tet count
+  Eigen::Matrix3Xd y_;              ///< the inertial target
+  Eigen::Matrix3Xd a_last_;         ///< the last step's acceleration (the adaptive start)
   Eigen::Matrix3Xd accelerated_, prev1_, prev2_;
   long restarts_ = 0;
   int stages_ = 0;  ///< sweeps of `iterations` in the last frame (more than one where the tools moved in stages)
@@ -446,6 +476,9 @@ std::vector<ParameterSpec> vbd_parameters() {
   specs.push_back(P::whole_number("iterations", d.iterations, 1, 100000, "sweeps over every vertex colour per frame"));
   specs.push_back(P::number("chebyshev_rho", d.chebyshev_rho, 0, 0.9999,
                             "> 0: Chebyshev acceleration with this spectral radius estimate (0: off)"));
+  specs.push_back(P::number("damping", d.damping, 0, 1e3,
+                            "k_d (s): the paper's damping, the vertex's elastic block times (x - x_n) k_d / h as a "
+                            "force (0: none)"));
   specs.push_back(P::choice("start", {"previous", "inertial", "adaptive"}, start_name(d.start),
                             "a frame's first iterate: the last positions, the inertial target, or the paper's adaptive "
                             "start (the last acceleration along the external force)"));
@@ -462,6 +495,7 @@ VbdSettings vbd_settings(const Parameters& p) {
   s.law = p.choice("material_law");
   s.iterations = p.integer("iterations");
   s.chebyshev_rho = p.number("chebyshev_rho");
+  s.damping = p.number("damping");
   const std::string& start = p.choice("start");
   s.start = start == "previous" ? VbdStart::Previous : start == "inertial" ? VbdStart::Inertial : VbdStart::Adaptive;
   const std::string& kernels = p.choice("kernels");

@@ -14,6 +14,7 @@
 // how close a frame gets to the implicit-Euler step (docs/realtime_nonlinear.md). From
 // the inertial target the sweeps must carry the iterate back to x_n, and the steady
 // state is off the equilibrium by what `iterations` sweeps leave unconverged.
+// Optional damping (VbdSettings::damping) vanishes at rest and leaves that unchanged.
 //
 // The law is any of numerics/materials (the VBD paper uses stable neo-Hookean). For
 // a law undefined at det F <= 0 (neo_hookean) a vertex's step is halved until its
@@ -47,8 +48,13 @@ enum class VbdKernels { Auto, Avx2, Sse2, Scalar };
 struct VbdSettings {
   TimeStepping stepping;
   std::string law = "neo_hookean";
-  int iterations = 20;          ///< sweeps over every colour per frame
-  double chebyshev_rho = 0;     ///< > 0: Chebyshev semi-iterative acceleration with this spectral radius estimate
+  int iterations = 20;       ///< sweeps over every colour per frame
+  double chebyshev_rho = 0;  ///< > 0: Chebyshev semi-iterative acceleration with this spectral radius estimate
+  /// k_d (s): Chen et al. 2024's damping ("Damping"), the vertex's elastic block H_e
+  /// as a force -(k_d / h) H_e (x - x_n) and a stiffness (k_d / h) H_e in its Newton
+  /// system. Zero at rest (x = x_n), so the steady state is unchanged; the block is
+  /// the vertex's own only, so it also resists a rigid motion of the vertex's tets.
+  double damping = 0;
   VbdStart start = VbdStart::Adaptive;
   VbdKernels kernels = VbdKernels::Auto;
 };
