@@ -33,6 +33,7 @@ using testing::kMaterial;
 using testing::newton_answer;
 using testing::settle;
 using testing::SettledStepper;
+using testing::PulledSmallCube;
 using testing::SmallCube;
 using testing::Stepper;
 
@@ -101,9 +102,8 @@ LiftedGroup lift_group(const Stepper& s, const ElasticBody& body, const Eigen::V
 // cube's height (pull) and inverts nothing under Newton (push).
 TEST_P(SettledStepper, EqualsTheStaticNewtonAnswerUnderAPointForce) {
   const Stepper& s = GetParam();
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, pull] = pulled;
   for (double fz : {0.2, -0.2}) {
     const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, fz)};
     const Eigen::VectorXd expected = newton_answer(body, loads, s.law, force, {});
@@ -263,10 +263,8 @@ INSTANTIATE_TEST_SUITE_P(Steppers, SettledStepper, ::testing::ValuesIn(steppers(
 // and the adaptive starts begin at x_n once at rest, where sweeps that do not move
 // mean a zero gradient (SettledStepper vbd_start_previous, vbd_neo_hookean).
 TEST(RealtimeSteppers, VbdInertialStartSettlesOffTheEquilibriumByLessWithMoreSweeps) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   const Eigen::VectorXd expected = newton_answer(body, loads, "neo_hookean", force, {});
   double error[3] = {0, 0, 0};
   const int sweeps[3] = {50, 100, 200};
@@ -296,10 +294,8 @@ TEST(RealtimeSteppers, VbdInertialStartSettlesOffTheEquilibriumByLessWithMoreSwe
 // settle; 1 ms already removes the overshoot and the body then creeps in
 // (docs/realtime_nonlinear.md, "VBD's damping").
 TEST(RealtimeSteppers, VbdDampingShrinksTheOvershootOfAStepLoad) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   const Eigen::VectorXd expected = newton_answer(body, loads, "neo_hookean", force, {});
   Eigen::Index top = 0;
   expected.reshaped(3, expected.size() / 3).row(2).maxCoeff(&top);
@@ -334,10 +330,8 @@ TEST(RealtimeSteppers, VbdDampingShrinksTheOvershootOfAStepLoad) {
 // VBD stops when its residual does: the settled state's static residual (what
 // report() gives a user to judge convergence by) is at round-off.
 TEST(RealtimeSteppers, VbdReportsAVanishingResidualOnceSettled) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   VbdSettings o;
   o.stepping.time_step = 0.5;
   o.iterations = 50;
@@ -357,10 +351,8 @@ TEST(RealtimeSteppers, VbdReportsAVanishingResidualOnceSettled) {
 // 1.9e-4 at 1e-4 s); more iterations per sub-step do not remove it (1.77e-2 with
 // 10 at 1e-3 s). Halving h divides it by 4 (3.5 to 4.5 allowed).
 TEST(RealtimeSteppers, XpbdSteadyStateBiasShrinksAsTheSubstepSquared) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   const Eigen::VectorXd expected = newton_answer(body, loads, "xpbd_neo_hookean", force, {});
   double error[2];
   for (int k = 0; k < 2; ++k) {
@@ -440,9 +432,8 @@ TEST(RealtimeSteppers, XpbdReactionsNearIncompressibilityAreItsMultipliers) {
 // together, cancel their rest corrections (xpbd_tet_solve.cc); and VBD's and PD's
 // gradient is 0.
 TEST(RealtimeSteppers, NoLoadLeavesTheBodyAtRest) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, pull] = pulled;
   const std::vector<Eigen::Vector3d> none = {Eigen::Vector3d::Zero()};
   std::unique_ptr<ElasticSolve> solves[3] = {make_vbd_solve(body, {}), make_xpbd_tet_solve(body, {}),
                                              make_pd_solve(body, {})};
@@ -457,10 +448,8 @@ TEST(RealtimeSteppers, NoLoadLeavesTheBodyAtRest) {
 // Colours (PD: its tets, then its nodes) are swept in parallel: the answer may not
 // depend on the thread count.
 TEST(RealtimeSteppers, TwoThreadsGiveTheOneThreadAnswerBitwise) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   for (testing::RealtimeStepper which : testing::kRealtimeSteppers) {
     Eigen::VectorXd u[2];
     Eigen::Vector3d support[2];  // the reactions' path (XPBD: its multipliers) on the team too

@@ -12,6 +12,7 @@
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
+#include "load_mapping.h"
 #include "test_support.h"
 
 namespace tb::testing {
@@ -35,6 +36,22 @@ struct SmallCube {
       if (mesh.V(v, 2) > a - 1e-12) g.nodes.push_back(static_cast<int>(v));
     return {g};
   }
+};
+
+/// SmallCube clamped at its base with a point force at its top centre, 0.2 N up: the
+/// set-up most of the steppers' tests share, taken apart as
+///   const PulledSmallCube pulled;
+///   const auto& [c, body, loads, force] = pulled;
+/// Not copyable: the body and the loads refer to the cube's mesh.
+struct PulledSmallCube {
+  SmallCube c;
+  ElasticBody body{c.mesh, kMaterial, c.clamped()};
+  BodyLoads loads{body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")}};
+  std::vector<Eigen::Vector3d> force{Eigen::Vector3d(0, 0, 0.2)};
+
+  PulledSmallCube() = default;
+  PulledSmallCube(const PulledSmallCube&) = delete;
+  PulledSmallCube& operator=(const PulledSmallCube&) = delete;
 };
 
 /// Frames of `frame` until u moves by at most 1e-11 |u| in a frame (or `max_frames`).

@@ -31,6 +31,7 @@ namespace tb {
 namespace {
 
 using testing::kMaterial;
+using testing::PulledSmallCube;
 using testing::SmallCube;
 
 bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
@@ -59,10 +60,8 @@ Eigen::VectorXd run(const ElasticBody& body, const BodyLoads& loads, VbdKernels 
 double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
 
 TEST(VbdKernels, LanesGiveTheScalarAnswerUnderAPointForce) {
-  const SmallCube c;
-  const ElasticBody body(c.mesh, kMaterial, c.clamped());
-  const BodyLoads loads(body, {containing_tet(c.mesh, {c.a / 2, c.a / 2, c.a}, "cube")});
-  const std::vector<Eigen::Vector3d> force = {Eigen::Vector3d(0, 0, 0.2)};
+  const PulledSmallCube pulled;
+  const auto& [c, body, loads, force] = pulled;
   std::string ran;
   const Eigen::VectorXd scalar = run(body, loads, VbdKernels::Scalar, force, {}, 20, &ran);
   EXPECT_EQ(ran, "scalar");
