@@ -14,26 +14,19 @@ namespace {
 
 const char* start_name(VbdStart s) {
   switch (s) {
-    case VbdStart::Previous:
-      return "previous";
-    case VbdStart::Inertial:
-      return "inertial";
-    case VbdStart::Adaptive:
-      return "adaptive";
+    case VbdStart::Previous: return "previous";
+    case VbdStart::Inertial: return "inertial";
+    case VbdStart::Adaptive: return "adaptive";
   }
   return "";
 }
 
 const char* kernels_name(VbdKernels k) {
   switch (k) {
-    case VbdKernels::Auto:
-      return "auto";
-    case VbdKernels::Avx2:
-      return "avx2";
-    case VbdKernels::Sse2:
-      return "sse2";
-    case VbdKernels::Scalar:
-      return "scalar";
+    case VbdKernels::Auto: return "auto";
+    case VbdKernels::Avx2: return "avx2";
+    case VbdKernels::Sse2: return "sse2";
+    case VbdKernels::Scalar: return "scalar";
   }
   return "";
 }
@@ -42,13 +35,11 @@ const char* kernels_name(VbdKernels k) {
 /// Throws std::invalid_argument for lanes the CPU or the law does not have.
 VbdKernels kernels_to_run(VbdKernels asked, bool law_has_lanes, const std::string& law) {
   const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (asked == VbdKernels::Auto)
-    return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
+  if (asked == VbdKernels::Auto) return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
   if (asked != VbdKernels::Scalar && !law_has_lanes)
     throw std::invalid_argument(std::string("vbd: kernels ") + kernels_name(asked) + " need a law with batched node " +
                                 "terms (neo_hookean); material_law " + law + " has none");
-  if (asked == VbdKernels::Avx2 && !avx2)
-    throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
+  if (asked == VbdKernels::Avx2 && !avx2) throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
   return asked;
 }
 
@@ -304,16 +295,15 @@ class VbdSolve : public TetTimeStepper<Law> {
       const int count = block_begin_[static_cast<size_t>(p) + 1] - block_begin_[static_cast<size_t>(p)];
       const bool cached = count <= kCachedBlocks;
       std::array<BlockDeterminants<L>, kCachedBlocks> dets;
-      const int bad =
-          add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H, cached ? dets.data() : nullptr);
+      const int bad = add_block_terms<L>(this->law_, blocks, count, x_.data(), from, gradient, H,
+                                         cached ? dets.data() : nullptr);
       if (bad >= 0) throw_at_lane(v, blocks[bad / kVisitLanes], bad % kVisitLanes, from);
       damp(v, from, h2, gradient, H);
       // Inlined (as the lanes' kernels are) into the per-instruction-set caller.
-      step(
-          v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
-            return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
-                          : blocks_above_at<L>(blocks, count, x_.data(), from + dx, kMinDet);
-          });
+      step(v, from, gradient, H, [&](const Eigen::Vector3d& dx) __attribute__((always_inline)) {
+        return cached ? blocks_stay_above<L>(dets.data(), count, dx, kMinDet)
+                      : blocks_above_at<L>(blocks, count, x_.data(), from + dx, kMinDet);
+      });
     }
   }
   __attribute__((target("avx2,fma"))) void update_vertex_avx2(int p, double h2) {
@@ -450,17 +440,17 @@ class VbdSolve : public TetTimeStepper<Law> {
 
   VbdSettings o_;
   bool keep_positive_;
-  VbdKernels kernels_;              ///< the kernels it runs (never Auto)
-  bool batched_;                    ///< the tets four at a time (vbd_visit_blocks.h)
-  std::vector<int> order_;          ///< the moving vertices in sweep order
-  std::vector<TetVisit> visits_;    ///< their tets, in sweep order (lay_out_visits)
-  std::vector<int> visit_begin_;    ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
+  VbdKernels kernels_;  ///< the kernels it runs (never Auto)
+  bool batched_;        ///< the tets four at a time (vbd_visit_blocks.h)
+  std::vector<int> order_;        ///< the moving vertices in sweep order
+  std::vector<TetVisit> visits_;  ///< their tets, in sweep order (lay_out_visits)
+  std::vector<int> visit_begin_;  ///< per sweep position p, where vertex order_[p]'s visits begin (#order_ + 1)
   std::vector<VisitBlock> blocks_;  ///< the visits four to a block (batched_; visits_ is then empty)
   std::vector<int> block_begin_;    ///< per sweep position p, where its blocks begin (#order_ + 1; batched_)
-  Colouring colours_;               ///< the vertex colours, as sweep positions
-  typename Base::Shares shares_;    ///< each thread's part of each colour, by tet count
-  Eigen::Matrix3Xd y_;              ///< the inertial target
-  Eigen::Matrix3Xd a_last_;         ///< the last step's acceleration (the adaptive start)
+  Colouring colours_;             ///< the vertex colours, as sweep positions
+  typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
+  Eigen::Matrix3Xd y_;                       ///< the inertial target
+  Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
   Eigen::Matrix3Xd accelerated_, prev1_, prev2_;
   long restarts_ = 0;
   int stages_ = 0;  ///< sweeps of `iterations` in the last frame (more than one where the tools moved in stages)
