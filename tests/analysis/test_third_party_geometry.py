@@ -6,9 +6,16 @@ import csv
 import json
 import os
 import subprocess
+import sys
+import tempfile
 import unittest
 
+import numpy as np
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "analysis"))
+import results_index  # noqa: E402
+
 GEOMETRY_FILES = (".vtu", ".pvd", ".obj", ".msh", ".stl", ".off", ".ply", ".ele", ".node")
 
 
@@ -70,6 +77,37 @@ class ThirdPartyGeometry(unittest.TestCase):
             for r in runs:
                 with open(os.path.join(ROOT, r)) as fh:
                     self.assertEqual(data_references(json.load(fh)), [], f"{f} beside {r}")
+
+
+class CoordinateFreeCases(unittest.TestCase):
+    """The analysis of a case whose CSVs give no coordinates: the load's vertex from
+    run.json, the rest surface from the run's mesh folder, else a one-line error."""
+
+    def write_case(self, root, name, u):
+        folder = os.path.join(root, "scenario", name)
+        os.makedirs(folder)
+        with open(os.path.join(folder, "top_surface.csv"), "w") as f:
+            f.write("vertex,ux,uy,uz\n")
+            for v, row in zip((0, 2), u):
+                f.write(f"{v},{row[0]},{row[1]},{row[2]}\n")
+        run = {"observed_vertex_nearest_load": 2, "scenario_resolved": {"load": {"point": [0, 0, 1]}}}
+        return {"folder": folder, "run": run}
+
+    def test_metrics_rest_and_the_missing_mesh_folder(self):
+        with tempfile.TemporaryDirectory() as root:
+            ref = self.write_case(root, "ref", [(0, 0, 1), (0, 0, 2)])
+            case = self.write_case(root, "case", [(0, 0, 1), (0, 0, 1)])
+            m = results_index.case_metrics(case, ref)
+            self.assertAlmostEqual(m["load_ratio"], 0.5)  # vertex 2, the second row
+            with self.assertRaisesRegex(results_index.ResultsError, "no coordinates .* no .*fine_surface.vtu"):
+                results_index.observed_rest(case)
+            os.makedirs(os.path.join(root, "scenario", "mesh"))
+            points = "0 0 0  1 0 0  0 1 1  0 0 3"
+            with open(os.path.join(root, "scenario", "mesh", "fine_surface.vtu"), "w") as f:
+                f.write('<VTKFile><Piece><Points><DataArray Name="Points" NumberOfComponents="3">' + points +
+                        '</DataArray></Points><Cells><DataArray Name="connectivity">0 1 2</DataArray>'
+                        '<DataArray Name="offsets">3</DataArray></Cells></Piece></VTKFile>')
+            np.testing.assert_array_equal(results_index.observed_rest(case), [[0, 0, 0], [0, 1, 1]])
 
 
 if __name__ == "__main__":
