@@ -327,6 +327,22 @@ TEST(RealtimeSteppers, VbdDampingShrinksTheOvershootOfAStepLoad) {
   EXPECT_LT(overshoot[2], overshoot[1]);
 }
 
+// A damping that is negative or not a number is refused in one line, before any frame.
+TEST(RealtimeSteppers, VbdRefusesANegativeOrNanDamping) {
+  const SmallCube c;
+  const ElasticBody body(c.mesh, kMaterial, c.clamped());
+  for (double damping : {-1e-3, std::nan("")}) {
+    VbdSettings o;
+    o.damping = damping;
+    try {
+      make_vbd_solve(body, o);
+      ADD_FAILURE() << "damping " << damping << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_STREQ(e.what(), "vbd: damping must be finite and at least 0");
+    }
+  }
+}
+
 // VBD stops when its residual does: the settled state's static residual (what
 // report() gives a user to judge convergence by) is at round-off.
 TEST(RealtimeSteppers, VbdReportsAVanishingResidualOnceSettled) {
