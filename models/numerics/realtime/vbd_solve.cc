@@ -31,18 +31,6 @@ const char* kernels_name(VbdKernels k) {
   return "";
 }
 
-/// The kernels a solve runs: `asked`, or for Auto the best this CPU and the law allow.
-/// Throws std::invalid_argument for lanes the CPU or the law does not have.
-VbdKernels kernels_to_run(VbdKernels asked, bool law_has_lanes, const std::string& law) {
-  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (asked == VbdKernels::Auto) return !law_has_lanes ? VbdKernels::Scalar : avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
-  if (asked != VbdKernels::Scalar && !law_has_lanes)
-    throw std::invalid_argument(std::string("vbd: kernels ") + kernels_name(asked) + " need a law with batched node " +
-                                "terms (neo_hookean); material_law " + law + " has none");
-  if (asked == VbdKernels::Avx2 && !avx2) throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
-  return asked;
-}
-
 /// One tet around a vertex as the vertex's update reads it. The visits are stored
 /// contiguously in sweep order (colour by colour, a colour's vertices in increasing
 /// index, each vertex's tets in increasing index), so that a sweep streams through
@@ -72,7 +60,8 @@ class VbdSolve : public TetTimeStepper<Law> {
         o_(settings),
         keep_positive_(!defined_when_inverted),
         // The lanes' kernel checks det F > 0 as a law undefined there needs (vbd_visit_blocks.h).
-        kernels_(kernels_to_run(o_.kernels, HasLaneNodeTerms<Law>::value && keep_positive_, o_.law)),
+        kernels_(choose_vbd_kernels(o_.kernels, HasLaneNodeTerms<Law>::value && keep_positive_, o_.law,
+                                    __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))),
         batched_(kernels_ != VbdKernels::Scalar) {
     if (o_.iterations < 1) throw std::invalid_argument("vbd: iterations must be at least 1");
     if (!(o_.chebyshev_rho >= 0 && o_.chebyshev_rho < 1))
@@ -132,6 +121,7 @@ class VbdSolve : public TetTimeStepper<Law> {
             {"start", start_name(o_.start)},
             {"kernels", kernels_name(kernels_)},
             {"vertex_colours", colours_.size()},
+            {"sweep_items_depending_on_another_thread", schedule_ ? schedule_->waiting_items() : 0},
             {"chebyshev_restarts", restarts_},
             {"stages_last_frame", stages_}};
   }
@@ -171,11 +161,11 @@ class VbdSolve : public TetTimeStepper<Law> {
     auto sse2 = [this, h2](int p) { update_vertex_sse2(p, h2); };
     for (int k = 1; k <= o_.iterations; ++k) {
       if (kernels_ == VbdKernels::Avx2)
-        this->sweep(colours_, avx2, &shares_);
+        this->sweep(colours_, avx2, &shares_, schedule_.get());
       else if (kernels_ == VbdKernels::Sse2)
-        this->sweep(colours_, sse2, &shares_);
+        this->sweep(colours_, sse2, &shares_, schedule_.get());
       else
-        this->sweep(colours_, scalar, &shares_);
+        this->sweep(colours_, scalar, &shares_, schedule_.get());
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
     }
   }
@@ -243,6 +233,17 @@ class VbdSolve : public TetTimeStepper<Law> {
     }
     shares_ = this->shares_by_cost(colours_, [this](int p) {
       return static_cast<double>(visit_begin_[static_cast<size_t>(p) + 1] - visit_begin_[static_cast<size_t>(p)]);
+    });
+    // A vertex's update reads every node of its tets: two share data where they share a tet.
+    Eigen::Matrix3Xd place(3, static_cast<Eigen::Index>(order_.size()));
+    std::vector<double> tets_of(order_.size());
+    for (size_t p = 0; p < order_.size(); ++p) {
+      place.col(static_cast<Eigen::Index>(p)) = x_.col(order_[p]);
+      tets_of[p] = static_cast<double>(visit_begin_[p + 1] - visit_begin_[p]);
+    }
+    schedule_ = this->schedule_sweep(colours_, place, tets_of, static_cast<int>(T_.rows()), [&](int p, std::vector<int>& keys) {
+      const size_t v = static_cast<size_t>(order_[static_cast<size_t>(p)]);
+      for (int k = around.offset[v]; k < around.offset[v + 1]; ++k) keys.push_back(around.around[static_cast<size_t>(k)].first);
     });
   }
 
@@ -456,6 +457,7 @@ class VbdSolve : public TetTimeStepper<Law> {
   std::vector<int> block_begin_;    ///< per sweep position p, where its blocks begin (#order_ + 1; batched_)
   Colouring colours_;             ///< the vertex colours, as sweep positions
   typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
+  std::unique_ptr<pbd::SweepSchedule> schedule_;  ///< the colours without barriers (none: one thread, or barriers asked)
   Eigen::Matrix3Xd y_;                       ///< the inertial target
   Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
   Eigen::Matrix3Xd accelerated_, prev1_, prev2_;
@@ -499,6 +501,17 @@ VbdSettings vbd_settings(const Parameters& p) {
   for (VbdKernels k : {VbdKernels::Auto, VbdKernels::Avx2, VbdKernels::Sse2, VbdKernels::Scalar})
     if (kernels == kernels_name(k)) s.kernels = k;
   return s;
+}
+
+VbdKernels choose_vbd_kernels(VbdKernels asked, bool law_has_lanes, const std::string& law, bool cpu_has_avx2) {
+  if (asked == VbdKernels::Auto)
+    return !law_has_lanes ? VbdKernels::Scalar : cpu_has_avx2 ? VbdKernels::Avx2 : VbdKernels::Sse2;
+  if (asked != VbdKernels::Scalar && !law_has_lanes)
+    throw std::invalid_argument(std::string("vbd: kernels ") + kernels_name(asked) + " need a law with batched node " +
+                                "terms (neo_hookean); material_law " + law + " has none");
+  if (asked == VbdKernels::Avx2 && !cpu_has_avx2)
+    throw std::invalid_argument("vbd: kernels avx2: this CPU has no AVX2 and FMA");
+  return asked;
 }
 
 std::unique_ptr<ElasticSolve> make_vbd_solve(const ElasticBody& body, const VbdSettings& settings) {

@@ -64,6 +64,13 @@ struct VbdSettings {
 std::vector<ParameterSpec> vbd_parameters();
 VbdSettings vbd_settings(const Parameters& p);
 
+/// The kernels a solve runs: `asked`, or for Auto the best that `cpu_has_avx2` (AVX2
+/// and FMA) and the law allow (`law_has_lanes`: the law offers lane node terms and
+/// the solve keeps det F positive, as the lanes' kernel assumes). Throws
+/// std::invalid_argument, naming `law`, for lanes the CPU or the law does not have.
+/// A function of its arguments alone, so the no-AVX2 path is testable on any CPU.
+VbdKernels choose_vbd_kernels(VbdKernels asked, bool law_has_lanes, const std::string& law, bool cpu_has_avx2);
+
 /// A VBD solve on `body` (which outlives it). Throws std::invalid_argument for an
 /// unusable setting; its solve() throws std::runtime_error when the tools' positions
 /// leave a tet the law cannot take even in 64 stages (a tool moved a node through

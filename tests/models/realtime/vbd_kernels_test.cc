@@ -6,7 +6,8 @@
 // there). The kernels themselves on random tets against the law's scalar node terms,
 // and their positivity checks at a step that crosses the smallest det F allowed;
 // lanes::log as VBD compiles it (AVX2 with FMA) against the C library. And a law
-// without batched node terms refuses the lanes with a one-line error.
+// without batched node terms refuses the lanes with a one-line error, as a CPU without
+// AVX2 refuses the AVX2 lanes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -297,6 +298,25 @@ TEST(VbdKernels, ALawWithoutLanesRefusesThemInOneLine) {
   }
   o.kernels = VbdKernels::Auto;  // auto falls back to the scalar kernels
   EXPECT_EQ(make_vbd_solve(body, o)->report()["kernels"].get<std::string>(), "scalar");
+}
+
+// The choice on a CPU without AVX2 and FMA, whatever this one has: auto takes SSE2
+// (or the scalar sum for a law without lanes), an explicit avx2 is refused in one
+// line, sse2 and scalar run as asked.
+TEST(VbdKernels, ACpuWithoutAvx2GetsSse2ForAutoAndRefusesAvx2InOneLine) {
+  const std::string law = "neo_hookean";
+  EXPECT_EQ(choose_vbd_kernels(VbdKernels::Auto, true, law, false), VbdKernels::Sse2);
+  EXPECT_EQ(choose_vbd_kernels(VbdKernels::Auto, true, law, true), VbdKernels::Avx2);
+  EXPECT_EQ(choose_vbd_kernels(VbdKernels::Auto, false, law, false), VbdKernels::Scalar);
+  EXPECT_EQ(choose_vbd_kernels(VbdKernels::Sse2, true, law, false), VbdKernels::Sse2);
+  EXPECT_EQ(choose_vbd_kernels(VbdKernels::Scalar, true, law, false), VbdKernels::Scalar);
+  try {
+    choose_vbd_kernels(VbdKernels::Avx2, true, law, false);
+    ADD_FAILURE() << "avx2 accepted on a CPU without it";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what, "vbd: kernels avx2: this CPU has no AVX2 and FMA");
+  }
 }
 
 }  // namespace
