@@ -440,10 +440,8 @@ const TetMesh& cube_volume_in_tetgen_order(int refinement) {
 /// threads, range(3) sweeps (VBD), sub-steps (XPBD) or iterations (PD, all run) a frame; time_step
 /// 0.01 s (XPBD with one sub-step: 0.001 s, the configuration whose settled error
 /// docs/realtime_nonlinear.md tables); range(4) zorder: 1 the volume as the hybrid
-/// builder stores it (along a Z curve), 0 in TetGen's own order; range(5) barriers: 1
-/// the threads meet at a barrier after each colour, 0 only where an item depends on
-/// another thread's earlier colour (sweep_schedule.h). Frames continue the same run
-/// (the transient). Wall time: the second thread works.
+/// builder stores it (along a Z curve), 0 in TetGen's own order. Frames continue the
+/// same run (the transient). Wall time: the second thread works.
 void BM_NonlinearStepperFrame(benchmark::State& state) {
   const HybridMesh& h = cube_mesh(static_cast<int>(state.range(1)));
   const TetMesh& volume = state.range(4) ? h.fine_volume : cube_volume_in_tetgen_order(static_cast<int>(state.range(1)));
@@ -452,18 +450,15 @@ void BM_NonlinearStepperFrame(benchmark::State& state) {
   std::unique_ptr<ElasticSolve> solve;
   const int threads = static_cast<int>(state.range(2));
   const int work = static_cast<int>(state.range(3));
-  TimeStepping stepping;
-  stepping.threads = threads;
-  stepping.colour_barriers = state.range(5) != 0;
   if (state.range(0) == 0 || state.range(0) == 4) {
     VbdSettings o;
-    o.stepping = stepping;
+    o.stepping.threads = threads;
     o.iterations = work;
     if (state.range(0) == 4) o.kernels = VbdKernels::Scalar;
     solve = make_vbd_solve(body, o);
   } else if (state.range(0) >= 2) {  // pd: 2 quasi_newton (neo_hookean), 3 local_global (arap_volume)
     PdSettings o;
-    o.stepping = stepping;
+    o.stepping.threads = threads;
     o.iterations = work;
     o.tolerance = 0;  // every iteration runs: the cost of `work` of them
     if (state.range(0) == 3) {
@@ -473,7 +468,7 @@ void BM_NonlinearStepperFrame(benchmark::State& state) {
     solve = make_pd_solve(body, o);
   } else {
     XpbdTetSettings o;
-    o.stepping = stepping;
+    o.stepping.threads = threads;
     o.substeps = work;
     if (work == 1) o.stepping.time_step = 0.001;
     solve = make_xpbd_tet_solve(body, o);
@@ -550,14 +545,12 @@ BENCHMARK(BM_XpbdFrame)->ArgName("hybrid")->Arg(0)->Arg(1)->UseManualTime()->Uni
 // the threads; and the default 20, which the study's error table pairs with.
 BENCHMARK(BM_NonlinearStepperFrame)
     // zorder 0: the same frames on TetGen's node order, against the builder's (1).
-    ->ArgNames({"xpbd", "refine", "threads", "work", "zorder", "barriers"})
-    ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}, {1}, {0}})
-    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {1, 20}, {0}, {0}})
-    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}, {1}, {0}})
-    ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}, {1}, {0}})
-    ->ArgsProduct({{4}, {1, 6}, {1, 2}, {1, 20}, {1}, {0}})  // VBD's scalar kernels beside its lanes (0)
-    // The barrier after each colour (1) beside the dependencies alone (0), two threads.
-    ->ArgsProduct({{0, 1, 2}, {1, 6}, {2}, {1, 20}, {1}, {1}})
+    ->ArgNames({"xpbd", "refine", "threads", "work", "zorder"})
+    ->ArgsProduct({{0, 1}, {1, 2, 4, 6}, {1, 2}, {1}, {1}})
+    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {1, 20}, {0}})
+    ->ArgsProduct({{0, 1}, {1, 6}, {1, 2}, {20}, {1}})
+    ->ArgsProduct({{2, 3}, {1}, {1, 2}, {1, 10}, {1}})
+    ->ArgsProduct({{4}, {1, 6}, {1, 2}, {1, 20}, {1}})  // VBD's scalar kernels beside its lanes (0)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThreadTeamBarrier)->ArgName("members")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);

@@ -55,21 +55,6 @@ class PdSolve : public TetTimeStepper<Law> {
     passes_.resize(2);
     for (Eigen::Index t = 0; t < tets; ++t) passes_[0].push_back(static_cast<int>(t));
     for (Eigen::Index v = 0; v < n; ++v) passes_[1].push_back(static_cast<int>(tets + v));
-    // A node's gradient reads the forces of its tets: it waits on those another thread computes.
-    Eigen::Matrix3Xd place(3, tets + n);
-    for (Eigen::Index t = 0; t < tets; ++t)
-      place.col(t) = (x_.col(T_(t, 0)) + x_.col(T_(t, 1)) + x_.col(T_(t, 2)) + x_.col(T_(t, 3))) / 4;
-    place.rightCols(n) = x_;
-    const std::vector<double> equal(static_cast<size_t>(tets + n), 1.0);
-    schedule_ = this->schedule_sweep(passes_, place, equal, static_cast<int>(tets), [&](int item, std::vector<int>& keys) {
-      if (item < tets) {
-        keys.push_back(item);
-        return;
-      }
-      const size_t v = static_cast<size_t>(item - tets);
-      for (int k = around_.offset[v]; k < around_.offset[v + 1]; ++k)
-        keys.push_back(around_.around[static_cast<size_t>(k)].first);
-    });
     tet_force_ = Eigen::Matrix3Xd::Zero(3, 4 * tets);
     tet_energy_ = Eigen::VectorXd::Zero(tets);
     valid_.assign(static_cast<size_t>(tets), 1);
@@ -414,7 +399,7 @@ class PdSolve : public TetTimeStepper<Law> {
       }
       gradient.col(v) = g.cwiseProduct(free_.col(v));
     };
-    this->sweep(passes_, item, nullptr, schedule_.get());
+    this->sweep(passes_, item);
     if (!with_energy) return 0;
     double energy = 0;
     for (Eigen::Index t = 0; t < tets; ++t) {
@@ -446,7 +431,6 @@ class PdSolve : public TetTimeStepper<Law> {
   std::unique_ptr<PdGlobalMatrix> global_;
   VertexTets around_;
   Colouring passes_;
-  std::unique_ptr<pbd::SweepSchedule> schedule_;  ///< the passes without a barrier (none: one thread, or barriers asked)
   Eigen::Matrix3Xd tet_force_;  ///< column 4 t + a: V_t P(F_t) g_t,a, tet t's force on its node a
   Eigen::VectorXd tet_energy_;  ///< V_t W(F_t)
   std::vector<char> valid_;     ///< whether tet t's F was positive (laws undefined at det F <= 0)

@@ -7,11 +7,7 @@ std::vector<ParameterSpec> time_stepping_parameters(double default_time_step) {
   return {P::number("time_step", default_time_step, 1e-6, 1, "time step per frame, s"),
           P::whole_number("threads", 1, 1, 64,
                           "threads of the colour-by-colour sweep (the caller and threads - 1 more); the answer does "
-                          "not depend on it"),
-          P::choice("thread_sync", {"dependencies", "barriers"}, "dependencies",
-                    "how the threads meet between colours: each waits only where its next item shares data with "
-                    "another thread's earlier colour (dependencies), or all at a barrier after each colour; the "
-                    "answer is the same")};
+                          "not depend on it")};
 }
 
 ParameterSpec material_law_parameter(const std::string& default_law) {
@@ -25,7 +21,6 @@ TimeStepping time_stepping(const Parameters& p) {
   TimeStepping s;
   s.time_step = p.number("time_step");
   s.threads = p.integer("threads");
-  s.colour_barriers = p.choice("thread_sync") == "barriers";
   return s;
 }
 

@@ -43,7 +43,6 @@
 #include "material_law_visit.h"
 #include "mesh_checks.h"
 #include "tet_element.h"
-#include "sweep_schedule.h"
 #include "thread_team.h"
 
 namespace tb {
@@ -52,10 +51,6 @@ namespace tb {
 struct TimeStepping {
   double time_step = 0.01;  ///< s per frame
   int threads = 1;          ///< members of the sweep's thread team (1: the caller alone)
-  /// How the team's members meet between colours: at a barrier after each (true),
-  /// or each only where its next item shares data with another member's earlier
-  /// colour (false: sweep_schedule.h). The same answer either way.
-  bool colour_barriers = false;
 };
 
 /// The parameters time_step and threads, for the models built on these steppers.
@@ -177,7 +172,6 @@ class TetTimeStepper : public ElasticSolve {
     nlohmann::json r = own_report();
     r["time_step"] = s_.time_step;
     r["threads"] = s_.threads;
-    r["thread_sync"] = !team_ ? "none" : s_.colour_barriers ? "barriers" : "dependencies";
     r["static_residual"] = static_residual();
     return r;
   }
@@ -391,38 +385,16 @@ class TetTimeStepper : public ElasticSolve {
     return shares;
   }
 
-  /// The schedule that runs `classes` over the thread team without a barrier between
-  /// classes (sweep_schedule.h), each member the items of one slab of the body (item
-  /// i at `at.col(i)`, costing cost[i]: slab_owners); `keys` and `key_count` as
-  /// SweepSchedule's. None (the sweep then meets at barriers) without a team or where
-  /// the settings ask for barriers.
-  template <class Keys>
-  std::unique_ptr<pbd::SweepSchedule> schedule_sweep(const Colouring& classes, const Eigen::Matrix3Xd& at,
-                                                     const std::vector<double>& cost, int key_count,
-                                                     Keys&& keys) const {
-    if (!team_ || s_.colour_barriers) return nullptr;
-    const std::vector<int> owners = pbd::slab_owners(at, cost, team_->size());
-    return std::make_unique<pbd::SweepSchedule>(
-        classes, team_->size(), [&](int item) { return owners[static_cast<size_t>(item)]; }, key_count,
-        std::forward<Keys>(keys));
-  }
-
   /// Runs item(k) for every k of every class, class by class; the items of a class
-  /// are shared out over the thread team by `schedule` (from schedule_sweep on the
-  /// same classes) where given, else in contiguous ranges (equal counts, or `shares`
-  /// from shares_by_cost) with a barrier between classes. The result
-  /// does not depend on the team's size, the shares or the schedule (items of a class
-  /// touch disjoint data). No heap allocation.
+  /// are shared out over the thread team in contiguous ranges (equal counts, or
+  /// `shares` from shares_by_cost), a barrier between classes. The result does not
+  /// depend on the team's size or the shares (items of a class touch disjoint
+  /// data). No heap allocation.
   template <class Item>
-  void sweep(const Colouring& classes, Item& item, const Shares* shares = nullptr,
-             pbd::SweepSchedule* schedule = nullptr) {
+  void sweep(const Colouring& classes, Item& item, const Shares* shares = nullptr) {
     if (!team_) {
       for (const std::vector<int>& c : classes)
         for (int k : c) item(k);
-      return;
-    }
-    if (schedule) {
-      schedule->run(*team_, item);
       return;
     }
     const int members = team_->size();

@@ -121,7 +121,6 @@ class VbdSolve : public TetTimeStepper<Law> {
             {"start", start_name(o_.start)},
             {"kernels", kernels_name(kernels_)},
             {"vertex_colours", colours_.size()},
-            {"sweep_items_depending_on_another_thread", schedule_ ? schedule_->waiting_items() : 0},
             {"chebyshev_restarts", restarts_},
             {"stages_last_frame", stages_}};
   }
@@ -161,11 +160,11 @@ class VbdSolve : public TetTimeStepper<Law> {
     auto sse2 = [this, h2](int p) { update_vertex_sse2(p, h2); };
     for (int k = 1; k <= o_.iterations; ++k) {
       if (kernels_ == VbdKernels::Avx2)
-        this->sweep(colours_, avx2, &shares_, schedule_.get());
+        this->sweep(colours_, avx2, &shares_);
       else if (kernels_ == VbdKernels::Sse2)
-        this->sweep(colours_, sse2, &shares_, schedule_.get());
+        this->sweep(colours_, sse2, &shares_);
       else
-        this->sweep(colours_, scalar, &shares_, schedule_.get());
+        this->sweep(colours_, scalar, &shares_);
       if (o_.chebyshev_rho > 0) accelerate(k, omega);
     }
   }
@@ -233,17 +232,6 @@ class VbdSolve : public TetTimeStepper<Law> {
     }
     shares_ = this->shares_by_cost(colours_, [this](int p) {
       return static_cast<double>(visit_begin_[static_cast<size_t>(p) + 1] - visit_begin_[static_cast<size_t>(p)]);
-    });
-    // A vertex's update reads every node of its tets: two share data where they share a tet.
-    Eigen::Matrix3Xd place(3, static_cast<Eigen::Index>(order_.size()));
-    std::vector<double> tets_of(order_.size());
-    for (size_t p = 0; p < order_.size(); ++p) {
-      place.col(static_cast<Eigen::Index>(p)) = x_.col(order_[p]);
-      tets_of[p] = static_cast<double>(visit_begin_[p + 1] - visit_begin_[p]);
-    }
-    schedule_ = this->schedule_sweep(colours_, place, tets_of, static_cast<int>(T_.rows()), [&](int p, std::vector<int>& keys) {
-      const size_t v = static_cast<size_t>(order_[static_cast<size_t>(p)]);
-      for (int k = around.offset[v]; k < around.offset[v + 1]; ++k) keys.push_back(around.around[static_cast<size_t>(k)].first);
     });
   }
 
@@ -457,7 +445,6 @@ class VbdSolve : public TetTimeStepper<Law> {
   std::vector<int> block_begin_;    ///< per sweep position p, where its blocks begin (#order_ + 1; batched_)
   Colouring colours_;             ///< the vertex colours, as sweep positions
   typename Base::Shares shares_;  ///< each thread's part of each colour, by tet count
-  std::unique_ptr<pbd::SweepSchedule> schedule_;  ///< the colours without barriers (none: one thread, or barriers asked)
   Eigen::Matrix3Xd y_;                       ///< the inertial target
   Eigen::Matrix3Xd a_last_;                  ///< the last step's acceleration (the adaptive start)
   Eigen::Matrix3Xd accelerated_, prev1_, prev2_;

@@ -52,17 +52,6 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       }
       colours_.push_back(std::move(positions));
     }
-    // A projection reads and writes its tet's nodes; a held node is never written.
-    Eigen::Matrix3Xd centroid(3, static_cast<Eigen::Index>(tets_.size()));
-    for (size_t p = 0; p < tets_.size(); ++p) {
-      centroid.col(static_cast<Eigen::Index>(p)).setZero();
-      for (int node : tets_[p].nodes) centroid.col(static_cast<Eigen::Index>(p)) += x_.col(node) / 4;
-    }
-    const std::vector<double> equal(tets_.size(), 1.0);
-    schedule_ = schedule_sweep(colours_, centroid, equal, static_cast<int>(n), [&](int p, std::vector<int>& keys) {
-      for (int node : tets_[static_cast<size_t>(p)].nodes)
-        if (moving[static_cast<size_t>(node)]) keys.push_back(node);
-    });
     // The tets that touch a held node: those with a free component keep their
     // projections' push on the held nodes (held_push_); those held entirely are never
     // projected, and give the law's force (add_held_internal_force).
@@ -116,7 +105,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
       std::fill(held_push_.begin(), held_push_.end(), Eigen::Matrix<double, 3, 4>::Zero());
       if (contact_on()) std::fill(contact_impulse_.begin(), contact_impulse_.end(), Eigen::Vector3d::Zero());
       for (int k = 0; k < o_.iterations; ++k) {
-        sweep(colours_, project, nullptr, schedule_.get());
+        sweep(colours_, project);
         if (contact_on()) project_spheres();
       }
       if (contact_on()) mark_pushed_nodes();
@@ -137,8 +126,7 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
             {"sphere_force", "its contact multipliers: lambda / h_sub^2 over the last sub-step's projections"},
             {"reactions", "its tet multipliers at the held nodes: the sum of grad C dlambda / h_sub^2 over the last "
                           "sub-step's projections, and the held nodes' inertia over the frame"},
-            {"tet_colours", colours_.size()},
-            {"sweep_items_depending_on_another_thread", schedule_ ? schedule_->waiting_items() : 0}};
+            {"tet_colours", colours_.size()}};
   }
 
   int last_iterations() const override { return o_.substeps * o_.iterations; }
@@ -249,7 +237,6 @@ class XpbdTetSolve : public TetTimeStepper<XpbdNeoHookean> {
   XpbdTetSettings o_;
   std::vector<TetInSweep> tets_;   ///< the tets in sweep order
   Colouring colours_;              ///< the tet colours, as sweep positions
-  std::unique_ptr<pbd::SweepSchedule> schedule_;  ///< the colours without barriers (none: one thread, or barriers asked)
   Eigen::Matrix3Xd inverse_mass_;  ///< per component: 1 / m where free, 0 where held
   Eigen::VectorXd lambda_d_, lambda_h_;  ///< the multipliers, by sweep position
   Eigen::Matrix3Xd x_sub_;  ///< positions at the sub-step's start
