@@ -6,6 +6,7 @@
 // reported as converged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "default_steppers.h"
@@ -113,7 +114,8 @@ class RealtimeRobustness : public ::testing::TestWithParam<std::tuple<Case, test
 // face's vertices and stalls the Gauss-Seidel sweeps; the residual says so), XPBD
 // 4.8e-3 / 0.92; 10x the time step, VBD 5.8e-14 / 1.4e-14, XPBD 0.37 / 1.04. So a
 // residual of 1e-3 at nu = 0.499 still means an error of a few per cent. PD (measured
-// later): 1.0e-6 / 3.3e-7, 3.7e-10 / 1.3e-10, 6.2e-13 / 1.6e-13.
+// later): 1.0e-6 / 3.3e-7, 3.7e-10 / 1.3e-10 (2.0e-11 on an AMD EPYC, 2026-11-28),
+// 6.2e-13 / 1.6e-13.
 TEST_P(RealtimeRobustness, StaysFiniteAndReportsHowFarFromConvergedItIs) {
   const auto& [c, which] = GetParam();
   const TetMesh mesh = c.sliver ? cube_with_a_sliver() : small_cube();
@@ -123,7 +125,13 @@ TEST_P(RealtimeRobustness, StaysFiniteAndReportsHowFarFromConvergedItIs) {
   EXPECT_TRUE(o.finite) << who;
   EXPECT_TRUE(std::isfinite(o.residual)) << who;
   const double p_to_shear_modulus = 2 * (1 - c.nu) / (1 - 2 * c.nu);  // (lambda + 2 mu) / mu
-  EXPECT_LE(o.error, p_to_shear_modulus * o.residual) << who << " residual " << o.residual;
+  // Below kRoundOff both the error and the residual are round-off: PD stops at its
+  // gradient's rounding floor, and on the sliver the error it leaves there (3.7e-10)
+  // stays while the residual it reports moves with the BLAS kernels' rounding (1.3e-10
+  // on one machine, 2.0e-11 on another). Newton's own answer is not the cause: in 4
+  // and in 5 load steps it agrees to 5e-16.
+  constexpr double kRoundOff = 1e-9;
+  EXPECT_LE(o.error, std::max(p_to_shear_modulus * o.residual, kRoundOff)) << who << " residual " << o.residual;
   RecordProperty("static_residual", ::testing::PrintToString(o.residual));
   RecordProperty("error_vs_newton", ::testing::PrintToString(o.error));
 }
