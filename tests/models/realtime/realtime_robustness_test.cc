@@ -128,7 +128,8 @@ TEST_P(RealtimeRobustness, StaysFiniteAndReportsHowFarFromConvergedItIs) {
   // Below kRoundOff both the error and the residual are round-off: PD stops at its
   // gradient's rounding floor, and on the sliver the error it leaves there (3.7e-10)
   // stays while the residual it reports moves with the BLAS kernels' rounding (1.3e-10
-  // on one machine, 2.0e-11 on another). Newton's own answer is not the cause: in 4
+  // with OpenBLAS's Haswell or Zen kernels, 2.0e-11 with its SkylakeX ones, which an
+  // AVX-512 CPU gets where the kernels are not pinned, as in the tests). Newton's own answer is not the cause: in 4
   // and in 5 load steps it agrees to 5e-16.
   constexpr double kRoundOff = 1e-9;
   EXPECT_LE(o.error, std::max(p_to_shear_modulus * o.residual, kRoundOff)) << who << " residual " << o.residual;
