@@ -68,7 +68,16 @@ TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::stri
                                 "): " + (tail.empty() ? "no output" : tail));
   }
   const std::string stem = fs::path(input).replace_extension("").string();
-  return read_volume(stem + ".1.ele", 1.0, flat);
+  const std::string output = stem + ".1.ele";
+  try {
+    return read_volume(output, 1.0, flat);
+  } catch (const MeshError& e) {
+    // Named by the input the user gave: TetGen's output is a temporary file, gone
+    // by the time the message is read.
+    std::string problem = e.what();
+    if (problem.rfind(output + ": ", 0) == 0) problem = problem.substr(output.size() + 2);
+    throw MeshError(source, "tetgen -" + switches + " gave an unusable volume: " + problem);
+  }
 }
 
 }  // namespace

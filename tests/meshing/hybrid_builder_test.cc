@@ -280,5 +280,27 @@ TEST(TetgenDriver, MissingProgramIsAClearError) {
   unsetenv("TISSUEBENCH_TETGEN");
 }
 
+// A volume TetGen returns with a flat tet (here a stand-in program that writes one)
+// is refused in one line that names the surface the user gave, not TetGen's
+// temporary output (gone by the time the message is read).
+TEST(TetgenDriver, AFlatTetInTetgensVolumeNamesTheInputSurface) {
+  const testing::TempFolder dir("fake-tetgen");
+  const std::string fake = dir / "tetgen";
+  write_file_atomically(fake,
+                        "#!/bin/sh\n"
+                        "stem=\"${2%.smesh}\"\n"
+                        "printf '4 3 0 0\\n0 0 0 0\\n1 1 0 0\\n2 0 1 0\\n3 1 1 0\\n' > \"$stem.1.node\"\n"
+                        "printf '1 4 0\\n0 0 1 2 3\\n' > \"$stem.1.ele\"\n");
+  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+  setenv("TISSUEBENCH_TETGEN", fake.c_str(), 1);
+  try {
+    tetrahedralize_surface(make_cube_surface({}), {}, "organ.obj");
+    ADD_FAILURE() << "a flat tet accepted";
+  } catch (const MeshError& e) {
+    EXPECT_EQ(std::string(e.what()), "organ.obj: tetgen -pYzQq1.414 gave an unusable volume: 1 tetrahedra with zero volume");
+  }
+  unsetenv("TISSUEBENCH_TETGEN");
+}
+
 }  // namespace
 }  // namespace tb
