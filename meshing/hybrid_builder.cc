@@ -46,7 +46,8 @@ HybridMesh build_hybrid_from_surface(const SurfaceMesh& surface, const HybridBui
   HybridMesh h;
   h.fine_surface = surface;
   h.fine_volume =
-      o.fine_volume_builder ? o.fine_volume_builder(surface) : tetrahedralize_surface(surface, o.fine_tetgen, source);
+      o.fine_volume_builder ? o.fine_volume_builder(surface)
+                            : tetrahedralize_surface(surface, o.fine_tetgen, source, &h.fine_repair);
   h.fine_surface_to_volume = surface_to_volume_identity(surface);
   const int n_surface = static_cast<int>(surface.V.rows());
 
@@ -100,7 +101,7 @@ HybridMesh build_hybrid_with_coarse(const SurfaceMesh& surface, const TetMesh& c
   h.fine_surface = surface;
   h.coarse_volume = coarse;
   if (fine_tetgen) {
-    h.fine_volume = tetrahedralize_surface(surface, *fine_tetgen, source);
+    h.fine_volume = tetrahedralize_surface(surface, *fine_tetgen, source, &h.fine_repair);
     h.fine_surface_to_volume = surface_to_volume_identity(surface);
     order_along_z_curve(h.fine_volume, static_cast<int>(surface.V.rows()));  // volume_ordering.h
   }

@@ -227,8 +227,9 @@ int orient_and_check_tets(const std::string& file, TetMesh& m, FlatTets flat_pol
   Eigen::Index kept = 0;
   for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
     const double v = tet_volume(row(m.V, m.T(t, 0)), row(m.V, m.T(t, 1)), row(m.V, m.T(t, 2)), row(m.V, m.T(t, 3)));
-    if (std::abs(v) <= 1e-14 * diag * diag * diag) {
+    if (std::abs(v) <= flat_tet_volume_bound(diag)) {
       ++flat;
+      if (flat_policy == FlatTets::Keep) m.T.row(kept++) = m.T.row(t);
       continue;
     }
     if (v < 0) {

@@ -24,7 +24,14 @@ SurfaceCheckReport check_and_orient_surface(const std::string& file, SurfaceMesh
 enum class FlatTets {
   Error,  ///< a mesh read from a file: an error naming the file and the count
   Drop,   ///< a Delaunay mesh of points (coplanar hull points give slivers): remove them
+  Keep,   ///< left in place, unoriented, for a repair that follows (flat_tet_repair.h)
 };
+
+/// The volume at or below which a tet counts as flat: 1e-14 of the cube of the
+/// mesh's bounding-box diagonal (round-off on coordinates of that size).
+inline double flat_tet_volume_bound(double bounding_box_diagonal) {
+  return 1e-14 * bounding_box_diagonal * bounding_box_diagonal * bounding_box_diagonal;
+}
 
 /// Checks tets: indices in range, finite coordinates, zero-volume tets per
 /// `flat`; swaps two nodes of each negatively oriented tet. In place.

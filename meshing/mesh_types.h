@@ -56,6 +56,13 @@ struct CoarseRepairReport {
   int slivers_left = 0;               ///< tets still below the repair's angle (0 unless it gave up)
 };
 
+/// What the fine volume's repair of near-coincident TetGen points did
+/// (meshing/flat_tet_repair.h), reported in summary.json.
+struct InteriorPointMerges {
+  int merged = 0;   ///< interior points merged into a near-coincident node
+  int refused = 0;  ///< merges not made: they would have folded a tet
+};
+
 /// The hybrid mesh of paper section 1.2.
 ///   fine_volume may be empty when a coarse volume was given (liver path).
 ///   fine_surface_to_volume  #V_surface indices of each surface vertex in
@@ -67,6 +74,7 @@ struct HybridMesh {
   TetMesh coarse_volume;
   std::vector<ControlPoint> control_points;
   CoarseRepairReport coarse_repair;  ///< built coarse meshes only (zeros for a given one)
+  InteriorPointMerges fine_repair;  ///< built fine volumes only (zeros for a given one)
 };
 
 }  // namespace tb

@@ -5,10 +5,13 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
 #include "atomic_file.h"
+#include "flat_tet_repair.h"
+#include "mesh_checks.h"
 #include "mesh_error.h"
 #include "mesh_io.h"
 
@@ -43,9 +46,11 @@ void write_nodes(std::ostringstream& os, const Points& V) {
 }
 
 /// Runs tetgen with `switches` on `input` inside `dir`; returns the mesh it wrote
-/// (<stem>.1.node/.ele).
+/// (<stem>.1.node/.ele), read with `flat` and then passed to `finish` (a repair and
+/// check, given the output's name for its errors).
 TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::string& switches, double timeout_seconds,
-                   const std::string& source, FlatTets flat) {
+                   const std::string& source, FlatTets flat,
+                   const std::function<void(TetMesh&, const std::string&)>& finish = {}) {
   const std::string log = (dir.path / "tetgen.log").string();
   std::ostringstream cmd;
   cmd << "timeout " << static_cast<int>(timeout_seconds) << ' ' << shell_quote(tetgen_program()) << " -" << switches
@@ -70,7 +75,9 @@ TetMesh run_tetgen(const TempDir& dir, const std::string& input, const std::stri
   const std::string stem = fs::path(input).replace_extension("").string();
   const std::string output = stem + ".1.ele";
   try {
-    return read_volume(output, 1.0, flat);
+    TetMesh m = read_volume(output, 1.0, flat);
+    if (finish) finish(m, output);
+    return m;
   } catch (const MeshError& e) {
     // Named by the input the user gave: TetGen's output is a temporary file, gone
     // by the time the message is read.
@@ -99,7 +106,8 @@ std::string tetgen_program() {
       "or set TISSUEBENCH_TETGEN)");
 }
 
-TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& o, const std::string& source) {
+TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& o, const std::string& source,
+                               InteriorPointMerges* repair) {
   TempDir dir;
   std::ostringstream os;
   write_nodes(os, surface.V);
@@ -113,7 +121,13 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& 
   sw << std::setprecision(10) << "pYzQ";
   if (o.radius_edge_ratio > 0) sw << 'q' << o.radius_edge_ratio;
   if (o.max_volume > 0) sw << 'a' << o.max_volume;
-  TetMesh m = run_tetgen(dir, input, sw.str(), o.timeout_seconds, source, FlatTets::Error);
+  InteriorPointMerges merges;
+  TetMesh m = run_tetgen(dir, input, sw.str(), o.timeout_seconds, source, FlatTets::Keep,
+                         [&](TetMesh& volume, const std::string& output) {
+                           merges = merge_near_coincident_interior_points(volume, static_cast<int>(surface.V.rows()));
+                           orient_and_check_tets(output, volume, FlatTets::Error);
+                         });
+  if (repair) *repair = merges;
   // -Y keeps the surface and tetgen numbers input points first: check it held.
   if (m.V.rows() < surface.V.rows() ||
       (m.V.topRows(surface.V.rows()) - surface.V).cwiseAbs().maxCoeff() > 1e-12 * (1 + surface.V.cwiseAbs().maxCoeff()))

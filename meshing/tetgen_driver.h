@@ -17,8 +17,11 @@ struct TetgenOptions {
 /// Tetrahedralizes the inside of a closed surface, keeping the surface: every
 /// surface vertex is a volume node and no Steiner point is added on it (-pY).
 /// The surface's vertices come first in the result, in their order.
+/// Interior points TetGen put almost on another node (the flat tets they span) are
+/// merged into it (flat_tet_repair.h); what was merged goes to `repair`.
 /// `source` names the surface's file in error messages.
-TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& options, const std::string& source);
+TetMesh tetrahedralize_surface(const SurfaceMesh& surface, const TetgenOptions& options, const std::string& source,
+                               InteriorPointMerges* repair = nullptr);
 
 /// Delaunay tetrahedralization of a point set (its convex hull), without the
 /// zero-volume slivers that coplanar hull points can produce.
