@@ -14,6 +14,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "blas_kernels.h"
 #include "cube_generator.h"
 #include "elastic_body.h"
 #include "elastic_solve.h"
@@ -335,6 +336,7 @@ TEST(DistributedElasticity, BadSettingsAreErrors) {
 }  // namespace tb
 
 int main(int argc, char** argv) {
+  tb::pin_blas_kernels(argv);  // as the other tests (tests/test_main.cc), before MPI starts
   tb::MpiSession mpi(argc, argv);
   tb::use_one_thread();
   ::testing::InitGoogleTest(&argc, argv);
