@@ -244,7 +244,7 @@ nlohmann::json MeshReport::to_json(const HybridMesh& h) const {
                         {"remeshes", h.coarse_repair.remeshes},
                         {"slivers_left", h.coarse_repair.slivers_left}};
   j["fine_repair"] = {{"interior_points_merged", h.fine_repair.merged},
-                      {"merges_refused", h.fine_repair.refused}};
+                      {"interior_points_not_merged", h.fine_repair.refused}};
   j["max_embedding_distance"] = max_embedding_distance(h);
   j["self_intersections_found"] = self_intersections_found;
   j["self_intersections_repaired"] = repaired;
@@ -331,7 +331,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-5";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-6";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);
@@ -365,9 +365,9 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   h.coarse_repair = {repair.at("boundary_slivers_removed").get<int>(), repair.at("vertices_moved").get<int>(),
                      repair.at("interior_vertices_dropped").get<int>(), repair.at("remeshes").get<int>(),
                      repair.at("slivers_left").get<int>()};
-  if (summary.contains("fine_repair"))  // absent in folders written before it was reported (none merged then)
+  if (summary.contains("fine_repair"))  // absent in mesh folders written before the repair
     h.fine_repair = {summary["fine_repair"].at("interior_points_merged").get<int>(),
-                     summary["fine_repair"].at("merges_refused").get<int>()};
+                     summary["fine_repair"].at("interior_points_not_merged").get<int>()};
   return h;
 }
 

@@ -51,7 +51,7 @@ void drop_merged_nodes(TetMesh& m, const std::vector<char>& merged_away) {
 
 InteriorPointMerges merge_near_coincident_interior_points(TetMesh& m, int fixed_nodes) {
   const double flat_bound = flat_tet_volume_bound(bounding_box_diagonal(m.V));
-  std::vector<char> merged_away(static_cast<size_t>(m.V.rows()), 0);
+  std::vector<char> merged_away(static_cast<size_t>(m.V.rows()), 0), refused(merged_away);
   std::vector<std::vector<int>> node_tets(static_cast<size_t>(m.V.rows()));
   for (Eigen::Index t = 0; t < m.T.rows(); ++t)
     for (int k = 0; k < 4; ++k) node_tets[static_cast<size_t>(m.T(t, k))].push_back(static_cast<int>(t));
@@ -66,6 +66,10 @@ InteriorPointMerges merge_near_coincident_interior_points(TetMesh& m, int fixed_
     const int a = std::min(e.a, e.b), b = std::max(e.a, e.b);  // keep the lower: surface vertices come first
     if (b < fixed_nodes) continue;
     // Node b moved onto node a: its tets without a must stay positive and not flat.
+    // Then the tets of a over b's link fill what b's tets filled, once (their
+    // boundary is b's link too), so the mesh stays a tetrahedralisation of the same
+    // body; that needs the tets' orientation consistent beforehand, flat ones included
+    // (TetGen writes them so, and FlatTets::Keep leaves them as written).
     bool folds = false;
     for (int u : node_tets[static_cast<size_t>(b)]) {
       if (removed[static_cast<size_t>(u)] || holds(u, a)) continue;
@@ -74,7 +78,7 @@ InteriorPointMerges merge_near_coincident_interior_points(TetMesh& m, int fixed_
       folds = folds || tet_volume(p.row(0), p.row(1), p.row(2), p.row(3)) <= flat_bound;
     }
     if (folds) {
-      ++done.refused;
+      refused[static_cast<size_t>(b)] = 1;  // may still merge from a later tet
       continue;
     }
     for (int u : node_tets[static_cast<size_t>(b)]) {
@@ -91,6 +95,7 @@ InteriorPointMerges merge_near_coincident_interior_points(TetMesh& m, int fixed_
     merged_away[static_cast<size_t>(b)] = 1;
     ++done.merged;
   }
+  for (size_t v = 0; v < refused.size(); ++v) done.refused += refused[v] && !merged_away[v];
   if (done.merged == 0) return done;
   Eigen::Index kept = 0;
   for (Eigen::Index t = 0; t < m.T.rows(); ++t)

@@ -7,9 +7,12 @@
 // node (edges there are 3e-4 m), 38 within 1/100 of a tet's longest edge; 8 of
 // their tets have zero volume, the others are needles (smallest dihedral angle
 // 0.0016 degrees). Merging such points into their near-coincident neighbour
-// removes them and leaves the boundary as given: there 33 were merged, 12 merges
-// refused (they would fold a tet), no flat tet is left, the smallest dihedral
-// angle is 0.024 degrees and the volume equals the surface's to 4e-14.
+// removes them and leaves the boundary as given: there 33 were merged, 2 left where
+// they were (each merge would invert or flatten a tet), no flat tet is left, the
+// smallest dihedral angle is 0.024 degrees and the volume equals the surface's to
+// 4e-14. Not enough for the liver refined twice: one flat tet stays, its interior
+// point's merge would invert a tet of two other interior points 2.2e-5 m apart
+// (1/20 of that tet's longest edge, so not merged themselves).
 // The paper's cube and liver, the liver at 8 750 surface vertices and the generated
 // shapes have no such point (shortest over longest edge of a tet at least 0.04).
 #pragma once
@@ -21,10 +24,11 @@ namespace tb {
 /// Merges interior points (index >= `fixed_nodes`) into the node they nearly
 /// coincide with, one at a time in tet order: for each tet whose shortest edge has
 /// an interior end and is shorter than 1/100 of its longest, that end is merged
-/// into the other (the lower-numbered). The tets holding both go; the merge is
-/// made only if every other tet of the moved point stays positively oriented and
-/// not flat (mesh_checks.h, flat_tet_volume_bound), so the mesh never folds and
-/// the boundary is kept. The merged nodes are removed and the others keep their
+/// into the other (the lower-numbered; both ends may be interior). The tets holding
+/// both go; the merge is made only if every other tet of the moved point stays
+/// positively oriented and not flat (mesh_checks.h, flat_tet_volume_bound): then
+/// those tets fill what the moved point's tets filled, once, so the mesh never
+/// folds and the boundary is kept. One pass in tet order. The merged nodes are removed and the others keep their
 /// order, so nodes below `fixed_nodes` keep their indices. Flat tets left (no such
 /// edge, or a merge refused) are for orient_and_check_tets to report. Expects the
 /// non-flat tets positively oriented (orient_and_check_tets with FlatTets::Keep).

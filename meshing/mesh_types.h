@@ -60,7 +60,7 @@ struct CoarseRepairReport {
 /// (meshing/flat_tet_repair.h), reported in summary.json.
 struct InteriorPointMerges {
   int merged = 0;   ///< interior points merged into a near-coincident node
-  int refused = 0;  ///< merges not made: they would have folded a tet
+  int refused = 0;  ///< interior points left where they are: each merge tried would invert or flatten a tet
 };
 
 /// The hybrid mesh of paper section 1.2.

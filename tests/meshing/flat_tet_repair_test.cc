@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 #include "mesh_checks.h"
 #include "mesh_error.h"
 
@@ -63,18 +66,24 @@ TEST(FlatTetRepair, AFlatTetOfSurfaceNodesIsLeftForTheCheckToReport) {
   EXPECT_THROW(orient_and_check_tets("flat", m, FlatTets::Error), MeshError);
 }
 
-TEST(FlatTetRepair, AMergeThatWouldFoldATetIsNotMadeAndItsFlatTetIsLeftForTheCheck) {
+/// Base height of the thin tet in the refused-merge test, and what the merge would
+/// make of it.
+class FlatTetRepairRefused : public ::testing::TestWithParam<double> {};
+
+TEST_P(FlatTetRepairRefused, AMergeThatWouldInvertOrFlattenATetIsNotMadeAndItsFlatTetIsLeftForTheCheck) {
   // Node 4 sits 2e-12 above corner 0, spanning a flat tet with two nodes 1 mm away;
-  // a thin tet (5, 6, 7, 4), not flat (its base is 2 m^2), has its base plane
-  // between them, so moving node 4 onto node 0 would turn it inside out.
+  // a thin tet (5, 6, 7, 4), not flat (its base is 2 m^2), has its base at height
+  // GetParam(): moving node 4 onto node 0 would turn it inside out (base above node 0)
+  // or leave it positive but flat (base 3e-13 below: volume 2e-13, the bound 2.7e-13).
+  const double base = GetParam();
   TetMesh m;
   m.V.resize(8, 3);
   m.V << 0, 0, 0, 1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1,  //
       0, 0, 2e-12,                                  // interior, near node 0
-      -1, -1, 1e-12, 1, -1, 1e-12, 0, 1, 1e-12;
+      -1, -1, base, 1, -1, base, 0, 1, base;
   m.T.resize(2, 4);
   m.T << 0, 1, 2, 4,  // flat: spans nodes 0 and 4
-      5, 6, 7, 4;     // thin, positive while node 4 is above its base
+      5, 6, 7, 4;     // thin, positive and not flat while node 4 is where it is
   orient_and_check_tets("fold.ele", m, FlatTets::Keep);
   const TetMesh before = m;
   const InteriorPointMerges done = merge_near_coincident_interior_points(m, 4);
@@ -89,22 +98,59 @@ TEST(FlatTetRepair, AMergeThatWouldFoldATetIsNotMadeAndItsFlatTetIsLeftForTheChe
     EXPECT_EQ(std::string(e.what()), "fold.ele: 1 tetrahedra with zero volume");
   }
 }
+INSTANTIATE_TEST_SUITE_P(InvertOrFlatten, FlatTetRepairRefused, ::testing::Values(1e-12, -3e-13));
 
-TEST(FlatTetRepair, NodesAfterAMergedOneMoveUpInOrderAndTetsFollowThem) {
-  // Node 5, a second interior point, must keep its coordinates under its new index 4.
-  TetMesh m = unit_tet_split_near_a_corner(1e-14);
-  m.V.conservativeResize(6, 3);
-  m.V.row(5) << 0.2, 0.2, 0.2;
-  m.T.row(0) << 5, 1, 2, 3;  // the big tet now uses node 5; node 4 is only in flat ones
-  m.T.conservativeResize(5, 4);
-  m.T.row(4) << 4, 1, 2, 5;  // a sliver between the two interior points
-  orient_and_check_tets("split", m, FlatTets::Keep);
-  EXPECT_EQ(merge_near_coincident_interior_points(m, 4).merged, 1);
+/// Replaces tet t of m by the four tets joining `p` (a new node, inside t) to t's faces.
+void split_tet_at(TetMesh& m, Eigen::Index t, const Eigen::RowVector3d& p) {
+  const int n = static_cast<int>(m.V.rows());
+  m.V.conservativeResize(n + 1, 3);
+  m.V.row(n) = p;
+  const Eigen::Vector4i old = m.T.row(t).transpose();
+  const Eigen::Index rows = m.T.rows();
+  m.T.conservativeResize(rows + 3, 4);
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector4i tet = old;
+    tet(k) = n;
+    m.T.row(k == 0 ? t : rows + k - 1) = tet.transpose();
+  }
+}
+
+TEST(FlatTetRepair, AChainOfNearPointsEndsOnTheCornerAndTheNodesAfterThemMoveUpInOrder) {
+  // A valid mesh: the unit tet split at a well-placed node 4, its tet at corner 0
+  // split at node 5 (1.8e-4 from the corner), the first of those split at node 6
+  // (1.6e-3 from node 5). With the tets in reverse order node 6 merges into node 5
+  // first, then node 5, holding node 6's tets by then, into corner 0: that must give
+  // back the unit tet split at node 4 alone, node 4 keeping its place.
+  TetMesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  m.T.resize(1, 4);
+  m.T << 0, 1, 2, 3;
+  const Eigen::RowVector3d centre(0.25, 0.25, 0.25);
+  split_tet_at(m, 0, centre);  // tet 3 is now (0, 1, 2, 4)
+  ASSERT_EQ(m.T.row(3), Eigen::RowVector4i(0, 1, 2, 4));
+  const Eigen::RowVector3d near_corner = 1e-4 * (m.V.row(1) + m.V.row(2) + centre);
+  split_tet_at(m, 3, near_corner);  // tet 3 is now (5, 1, 2, 4)
+  const Eigen::RowVector3d near_it = (1 - 3e-3) * near_corner + 1e-3 * (m.V.row(1) + m.V.row(2) + centre);
+  split_tet_at(m, 3, near_it);
+  orient_and_check_tets("chain", m, FlatTets::Keep);
+  ASSERT_EQ(m.T.rows(), 10);
+  m.T = m.T.colwise().reverse().eval();
+
+  const InteriorPointMerges done = merge_near_coincident_interior_points(m, 4);
+  EXPECT_EQ(done.merged, 2);
+  EXPECT_EQ(done.refused, 0);
   ASSERT_EQ(m.V.rows(), 5);
-  EXPECT_EQ(m.V.row(4), Eigen::RowVector3d(0.2, 0.2, 0.2));
-  for (Eigen::Index t = 0; t < m.T.rows(); ++t)
-    for (int k = 0; k < 4; ++k) EXPECT_LT(m.T(t, k), 5);
-  EXPECT_EQ(orient_and_check_tets("split", m, FlatTets::Error), 0);
+  EXPECT_EQ(m.V.row(4), centre);
+  ASSERT_EQ(m.T.rows(), 4);
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    std::array<int, 4> n{m.T(t, 0), m.T(t, 1), m.T(t, 2), m.T(t, 3)};
+    std::sort(n.begin(), n.end());
+    EXPECT_EQ(n[3], 4) << "tet " << t << " should hold the centre";  // every tet joins it to a face
+    EXPECT_GE(n[0], 0);
+  }
+  EXPECT_EQ(orient_and_check_tets("chain", m, FlatTets::Error), 0);  // positive, none flat
+  EXPECT_NEAR(total_volume(m), 1.0 / 6.0, 1e-15);
 }
 
 }  // namespace

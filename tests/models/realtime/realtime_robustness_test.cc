@@ -130,8 +130,8 @@ TEST_P(RealtimeRobustness, StaysFiniteAndReportsHowFarFromConvergedItIs) {
   // stays while the residual it reports moves with the BLAS kernels' rounding (1.3e-10
   // with OpenBLAS's Haswell or Zen kernels, 2.0e-11 with its SkylakeX ones, which an
   // AVX-512 CPU gets where the kernels are not pinned: the tests pin them,
-  // tests/test_main.cc, but a CPU without AVX2 does not). Newton's own answer is not
-  // the cause: in 4 and in 5 load steps it agrees to 5e-16.
+  // tests/test_main.cc, unless OPENBLAS_CORETYPE is set by the user). Newton's own
+  // answer is not the cause: in 4 and in 5 load steps it agrees to 5e-16.
   constexpr double kRoundOff = 1e-9;
   EXPECT_LE(o.error, std::max(p_to_shear_modulus * o.residual, kRoundOff)) << who << " residual " << o.residual;
   RecordProperty("static_residual", ::testing::PrintToString(o.residual));
