@@ -244,7 +244,8 @@ nlohmann::json MeshReport::to_json(const HybridMesh& h) const {
                         {"remeshes", h.coarse_repair.remeshes},
                         {"slivers_left", h.coarse_repair.slivers_left}};
   j["fine_repair"] = {{"interior_points_merged", h.fine_repair.merged},
-                      {"interior_points_not_merged", h.fine_repair.refused}};
+                      {"interior_points_not_merged", h.fine_repair.refused},
+                      {"flat_tet_points_collapsed", h.fine_repair.flat_tets_collapsed}};
   j["max_embedding_distance"] = max_embedding_distance(h);
   j["self_intersections_found"] = self_intersections_found;
   j["self_intersections_repaired"] = repaired;
@@ -331,7 +332,7 @@ uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
 }
 
 /// Cache format version: bump when the mesh pipeline or the folder layout changes.
-constexpr const char* kCacheFormat = "tissuebench-mesh-cache-6";
+constexpr const char* kCacheFormat = "tissuebench-mesh-cache-7";
 
 HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
   const fs::path d(dir);
@@ -367,7 +368,8 @@ HybridMesh read_mesh_folder(const std::string& dir, MeshReport& report) {
                      repair.at("slivers_left").get<int>()};
   if (summary.contains("fine_repair"))  // absent in mesh folders written before the repair
     h.fine_repair = {summary["fine_repair"].at("interior_points_merged").get<int>(),
-                     summary["fine_repair"].at("interior_points_not_merged").get<int>()};
+                     summary["fine_repair"].at("interior_points_not_merged").get<int>(),
+                     summary["fine_repair"].value("flat_tet_points_collapsed", 0)};
   return h;
 }
 

@@ -61,6 +61,7 @@ struct CoarseRepairReport {
 struct InteriorPointMerges {
   int merged = 0;   ///< interior points merged into a near-coincident node
   int refused = 0;  ///< interior points left where they are: each merge tried would invert or flatten a tet
+  int flat_tets_collapsed = 0;  ///< interior points of a flat tet left, collapsed into their best neighbour
 };
 
 /// The hybrid mesh of paper section 1.2.

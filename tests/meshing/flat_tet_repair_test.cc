@@ -89,6 +89,7 @@ TEST_P(FlatTetRepairRefused, AMergeThatWouldInvertOrFlattenATetIsNotMadeAndItsFl
   const InteriorPointMerges done = merge_near_coincident_interior_points(m, 4);
   EXPECT_EQ(done.merged, 0);
   EXPECT_EQ(done.refused, 1);
+  EXPECT_EQ(done.flat_tets_collapsed, 0);  // onto node 1, 2 or the thin tet's: inverted or flat too
   EXPECT_EQ(m.V, before.V);
   EXPECT_EQ(m.T, before.T);
   try {
@@ -151,6 +152,33 @@ TEST(FlatTetRepair, AChainOfNearPointsEndsOnTheCornerAndTheNodesAfterThemMoveUpI
   }
   EXPECT_EQ(orient_and_check_tets("chain", m, FlatTets::Error), 0);  // positive, none flat
   EXPECT_NEAR(total_volume(m), 1.0 / 6.0, 1e-15);
+}
+
+TEST(FlatTetRepair, AFlatTetWithoutANearCoincidentPairLosesItsInteriorPointToTheBestNeighbour) {
+  // Two tets on the face (1, 2, 3), the upper one split at that face's centroid
+  // (node 5, an interior point): one of its four tets is flat, its shortest edge
+  // 0.58 of its longest, so the first pass has nothing to merge. The point's
+  // collapse into a node of its link gives back the two tets.
+  TetMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.6, 0.6, 0.6;
+  m.T.resize(2, 4);
+  m.T << 0, 1, 2, 3, 4, 1, 2, 3;
+  orient_and_check_tets("bipyramid", m, FlatTets::Keep);
+  const double volume = total_volume(m);
+  split_tet_at(m, 1, (m.V.row(1) + m.V.row(2) + m.V.row(3)) / 3);
+  ASSERT_EQ(m.T.rows(), 5);
+  TetMesh checked = m;
+  ASSERT_THROW(orient_and_check_tets("bipyramid", checked, FlatTets::Error), MeshError);
+
+  const InteriorPointMerges done = merge_near_coincident_interior_points(m, 5);
+  EXPECT_EQ(done.merged, 0);
+  EXPECT_EQ(done.refused, 0);
+  EXPECT_EQ(done.flat_tets_collapsed, 1);
+  EXPECT_EQ(m.V.rows(), 5);
+  EXPECT_EQ(m.T.rows(), 2);
+  EXPECT_EQ(orient_and_check_tets("bipyramid", m, FlatTets::Error), 0);  // positive, none flat
+  EXPECT_NEAR(total_volume(m), volume, 1e-15);
 }
 
 }  // namespace
