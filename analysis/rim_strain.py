@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The surface strain around a grasped patch, at several mesh sizes.
 
-Reads the surface.vtu a case writes (rest points, displacement per vertex) and
+Reads the surface.vtu a case writes (its points deformed, the displacement per
+vertex beside them) and
 reports the principal stretches of the surface (the singular values of the
 deformation gradient's restriction to each triangle's plane) in bands around the
 grasped patch: the held vertices are those displaced by exactly the tool's
@@ -22,7 +23,8 @@ import numpy as np
 
 
 def read_surface_vtu(path):
-    """Rest points, displacement and triangles of a surface.vtu (ASCII)."""
+    """Rest points, displacement and triangles of a surface.vtu (ASCII; its points
+    are the deformed ones, so the rest is points - displacement)."""
     try:
         text = open(path).read()
     except OSError as e:
@@ -40,7 +42,7 @@ def read_surface_vtu(path):
     offsets = array("offsets", np.int64)
     if not np.array_equal(np.diff(np.concatenate([[0], offsets])), np.full(len(offsets), 3)):
         sys.exit(f"{path}: not a triangle surface")
-    return points, displacement, connectivity.reshape(-1, 3)
+    return points - displacement, displacement, connectivity.reshape(-1, 3)
 
 
 def principal_stretches(rest, deformed, triangles):

@@ -74,7 +74,7 @@ class Bands(unittest.TestCase):
         displacement[0] = lift
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "surface.vtu")
-            write_vtu(path, points, displacement, triangles)
+            write_vtu(path, points + displacement, displacement, triangles)  # its points deformed
             out = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "rim_strain.py"),
                                   "--displacement", *map(str, lift), f"strip={path}"],
                                  capture_output=True, text=True, check=True).stdout
