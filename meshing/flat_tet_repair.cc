@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -92,8 +93,11 @@ class EdgeCollapses {
       if (holds(u, a)) {
         tet_removed_[static_cast<size_t>(u)] = 1;  // spanned the pair: gone
         for (int k = 0; k < 4; ++k) {
+          if (m_.T(u, k) == b) continue;
           auto& tets = node_tets_[static_cast<size_t>(m_.T(u, k))];
-          if (m_.T(u, k) != b) tets.erase(std::find(tets.begin(), tets.end(), u));
+          const auto listed = std::find(tets.begin(), tets.end(), u);
+          assert(listed != tets.end());  // every live tet is in each of its nodes' lists
+          tets.erase(listed);
         }
         continue;
       }
@@ -132,9 +136,10 @@ class EdgeCollapses {
   std::vector<char> tet_removed_, node_removed_;
 };
 
-/// First pass: near-coincident points, in tet order.
-void merge_near_coincident(EdgeCollapses& c, const TetMesh& m, int fixed_nodes, InteriorPointMerges& done) {
-  std::vector<char> refused(static_cast<size_t>(m.V.rows()), 0);
+/// First pass: near-coincident points, in tet order. Flags in `refused` the points
+/// whose merge was refused.
+void merge_near_coincident(EdgeCollapses& c, const TetMesh& m, int fixed_nodes, InteriorPointMerges& done,
+                           std::vector<char>& refused) {
   for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
     if (c.tet_removed(t)) continue;
     const ShortEdge e = shortest_edge(m, t);
@@ -148,7 +153,6 @@ void merge_near_coincident(EdgeCollapses& c, const TetMesh& m, int fixed_nodes, 
     c.collapse(b, a);
     ++done.merged;
   }
-  for (size_t v = 0; v < refused.size(); ++v) done.refused += refused[v] && !c.node_removed(static_cast<int>(v));
 }
 
 /// Second pass: a flat tet left keeps an interior point whose merge was refused, or
@@ -183,8 +187,11 @@ void collapse_into_flat_tets_best_neighbour(EdgeCollapses& c, const TetMesh& m, 
 InteriorPointMerges merge_near_coincident_interior_points(TetMesh& m, int fixed_nodes) {
   EdgeCollapses c(m);
   InteriorPointMerges done;
-  merge_near_coincident(c, m, fixed_nodes, done);
+  std::vector<char> refused(static_cast<size_t>(m.V.rows()), 0);
+  merge_near_coincident(c, m, fixed_nodes, done, refused);
   collapse_into_flat_tets_best_neighbour(c, m, fixed_nodes, done);
+  for (size_t v = 0; v < refused.size(); ++v)  // still there after both passes
+    done.refused += refused[v] && !c.node_removed(static_cast<int>(v));
   if (done.merged + done.flat_tets_collapsed > 0) c.compact();
   return done;
 }

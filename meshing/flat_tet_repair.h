@@ -37,7 +37,9 @@ namespace tb {
 /// refused as above is not a candidate). The removed nodes go and the others keep
 /// their order, so nodes below `fixed_nodes` keep their indices. Flat tets left (no
 /// interior point, or every collapse refused) are for orient_and_check_tets to
-/// report. Expects every tet positively oriented, the flat ones too (their sign
+/// report. Counts: `merged` (first pass), `flat_tets_collapsed` (second pass, one
+/// point per flat tet), `refused` (points whose first-pass merge was refused and that
+/// are still there after both passes). Expects every tet positively oriented, the flat ones too (their sign
 /// cannot be checked, so orient_and_check_tets with FlatTets::Keep leaves them as
 /// written): TetGen writes them so (of the liver's 1 138 130 tets, none negative, its
 /// 8 flat ones positive).

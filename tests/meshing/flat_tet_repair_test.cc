@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 
 #include "mesh_checks.h"
 #include "mesh_error.h"
@@ -179,6 +181,52 @@ TEST(FlatTetRepair, AFlatTetWithoutANearCoincidentPairLosesItsInteriorPointToThe
   EXPECT_EQ(m.T.rows(), 2);
   EXPECT_EQ(orient_and_check_tets("bipyramid", m, FlatTets::Error), 0);  // positive, none flat
   EXPECT_NEAR(total_volume(m), volume, 1e-15);
+}
+
+/// The smallest volume over longest edge cubed among m's tets (a shape measure:
+/// 0.118 for the regular tet).
+double smallest_shape(const TetMesh& m) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    Eigen::Matrix<double, 4, 3> p;
+    for (int k = 0; k < 4; ++k) p.row(k) = m.V.row(m.T(t, k));
+    double longest = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, (p.row(i) - p.row(j)).norm());
+    smallest = std::min(smallest, tet_volume(p.row(0), p.row(1), p.row(2), p.row(3)) / std::pow(longest, 3));
+  }
+  return smallest;
+}
+
+TEST(FlatTetRepair, TheFlatTetsPointGoesToTheNeighbourLeavingTheBestShapedTetsNotTheFirstValidOne) {
+  // Above the unit tet's face (1, 2, 3), two apexes 4 and 5; the region between is
+  // coned from node 6, an interior point at that face's centroid, which spans a flat
+  // tet with the face. Every node of 6's link is a valid target, but they leave
+  // different tets: into node 1 (the first in order) or node 5, a tet of shape
+  // 0.0029; into node 2, 3 or 4, none worse than 0.0206.
+  TetMesh m;
+  m.V.resize(7, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.9, 0.3, 0.3, 0.2, 0.4, 0.9, 1.0 / 3, 1.0 / 3, 1.0 / 3;
+  m.T.resize(7, 4);
+  m.T << 0, 1, 2, 3,  //
+      1, 6, 2, 3,     // flat, oriented as its neighbours above
+      6, 4, 1, 2,     //
+      6, 4, 3, 1,     //
+      5, 6, 3, 2,     //
+      6, 5, 4, 2,     //
+      5, 6, 4, 3;
+  TetMesh checked = m;
+  ASSERT_THROW(orient_and_check_tets("cap", checked, FlatTets::Error), MeshError);
+  orient_and_check_tets("cap", m, FlatTets::Keep);
+  const double volume = total_volume(m);
+
+  const InteriorPointMerges done = merge_near_coincident_interior_points(m, 6);
+  EXPECT_EQ(done.merged, 0);
+  EXPECT_EQ(done.flat_tets_collapsed, 1);
+  EXPECT_EQ(m.V.rows(), 6);
+  EXPECT_EQ(orient_and_check_tets("cap", m, FlatTets::Error), 0);
+  EXPECT_NEAR(total_volume(m), volume, 1e-15);
+  EXPECT_GT(smallest_shape(m), 0.02);
 }
 
 }  // namespace
