@@ -6,8 +6,11 @@ vertex beside them) and
 reports the principal stretches of the surface (the singular values of the
 deformation gradient's restriction to each triangle's plane) in bands around the
 grasped patch: the held vertices are those displaced by exactly the tool's
-displacement; the rim's triangles have one or two held vertices; the other free
-triangles are banded by their centroid's distance from the nearest held vertex. A
+displacement (so a model that holds the fine surface's vertices themselves: the FEM
+reference, pd, VBD, XPBD, PBD; on a coarse model's interpolated surface none is
+exactly held); the rim's triangles have one or two held vertices; the other free
+triangles are banded by the straight-line distance of their centroid from the
+nearest held vertex. A
 strain that concentrates at the patch's rim (the edge of a rigid punch, where the
 continuum's displacement gradient is singular) grows there as the triangles shrink,
 and converges away from it.
@@ -82,6 +85,8 @@ def main():
         held_in_triangle = held[tri].sum(1)
         rim = (held_in_triangle > 0) & (held_in_triangle < 3)
         free = held_in_triangle == 0
+        if not rim.any():
+            sys.exit(f"{path}: no triangle on the held patch's rim (every triangle held, or none touching it)")
         held_points = rest[held]
         centroids = rest[tri].mean(1)
         distance = np.full(len(tri), np.inf)
