@@ -97,6 +97,18 @@ class Bands(unittest.TestCase):
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("surface.vtu: no vertex displaced by", r.stderr)
 
+    def test_a_patch_without_a_rim_is_a_one_line_error(self):
+        # Every vertex lifted: every triangle held, none on a rim.
+        lift = np.array([0, 0, 1e-3])
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "surface.vtu")
+            write_vtu(path, REST + lift, np.tile(lift, (len(REST), 1)), TRIANGLES)
+            r = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "rim_strain.py"),
+                                "--displacement", *map(str, lift), f"x={path}"], capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("surface.vtu: no triangle on the held patch's rim", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
 
 if __name__ == "__main__":
     unittest.main()
