@@ -6,9 +6,11 @@ vertex beside them) and
 reports the principal stretches of the surface (the singular values of the
 deformation gradient's restriction to each triangle's plane) in bands around the
 grasped patch: the held vertices are those displaced by exactly the tool's
-displacement (so a model that holds the fine surface's vertices themselves: the FEM
-reference, pd, VBD, XPBD, PBD; on a coarse model's interpolated surface none is
-exactly held); the rim's triangles have one or two held vertices; the other free
+displacement (--displacement: a rigid grasp, in a model that holds the fine
+surface's vertices themselves: the FEM reference, pd, VBD, XPBD, PBD; on a coarse
+model's interpolated surface none is exactly held), or those whose rest position
+lies within a radius of a point (--patch: a compliant grasp's pads, which move
+with the tissue); the rim's triangles have one or two held vertices; the other free
 triangles are banded by the straight-line distance of their centroid from the
 nearest held vertex. A
 strain that concentrates at the patch's rim (the edge of a rigid punch, where the
@@ -17,6 +19,7 @@ and converges away from it.
 
   /usr/bin/python3 analysis/rim_strain.py --displacement 0 0 0.015 \
       LABEL=path/to/surface.vtu ...
+  /usr/bin/python3 analysis/rim_strain.py --patch X Y Z RADIUS LABEL=surface.vtu ...
 """
 import argparse
 import re
@@ -67,7 +70,10 @@ def principal_stretches(rest, deformed, triangles):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--displacement", type=float, nargs=3, required=True, help="the grasp's displacement (m)")
+    held_by = p.add_mutually_exclusive_group(required=True)
+    held_by.add_argument("--displacement", type=float, nargs=3, help="a rigid grasp's displacement (m)")
+    held_by.add_argument("--patch", type=float, nargs=4, metavar=("X", "Y", "Z", "RADIUS"),
+                         help="a compliant grasp's point and radius (m), in the rest configuration")
     p.add_argument("cases", nargs="+", help="LABEL=surface.vtu")
     a = p.parse_args()
     bands_mm = [(0, 0.5), (0.5, 1), (1, 2), (2, 5), (5, np.inf)]
@@ -78,9 +84,14 @@ def main():
     for case in a.cases:
         label, _, path = case.partition("=")
         rest, u, tri = read_surface_vtu(path)
-        held = np.linalg.norm(u - np.array(a.displacement), axis=1) < 1e-12 * (1 + np.linalg.norm(a.displacement))
-        if not held.any():
-            sys.exit(f"{path}: no vertex displaced by {a.displacement}")
+        if a.patch is not None:
+            held = np.linalg.norm(rest - np.array(a.patch[:3]), axis=1) <= a.patch[3]
+            if not held.any():
+                sys.exit(f"{path}: no vertex within {a.patch[3]} m of {a.patch[:3]}")
+        else:
+            held = np.linalg.norm(u - np.array(a.displacement), axis=1) < 1e-12 * (1 + np.linalg.norm(a.displacement))
+            if not held.any():
+                sys.exit(f"{path}: no vertex displaced by {a.displacement}")
         s = principal_stretches(rest, rest + u, tri)
         held_in_triangle = held[tri].sum(1)
         rim = (held_in_triangle > 0) & (held_in_triangle < 3)

@@ -146,7 +146,7 @@ std::vector<int> tracked_vertices(const Scenario& s, const Points& V) {
   for (const Load& load : load_case.loads)
     if (load.kind != LoadKind::BodyForce) add(nearest(load.point));
   for (const Tool& tool : load_case.tools)
-    if (tool.kind == ToolKind::Grasp || tool.kind == ToolKind::Sphere) add(nearest(tool.point));
+    if (tool.holds_a_disc() || tool.kind == ToolKind::Sphere) add(nearest(tool.point));
   const size_t n = observed.size(), spread = std::min<size_t>(n, kTrackedSpread);
   for (size_t k = 0; k < spread; ++k) add(observed[k * n / spread]);
   return out;

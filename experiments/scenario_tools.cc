@@ -107,7 +107,7 @@ std::vector<ScenarioTool> parse_tools(StrictObject& scenario) {
   for (size_t i = 0; i < tools.size(); ++i) {
     StrictObject o = scenario.item("tools", i);
     const std::string key = "tools[" + std::to_string(i) + "]";
-    const std::string type = o.text("type", std::nullopt, {"grasp", "plate", "sphere"});
+    const std::string type = o.text("type", std::nullopt, {"grasp", "compliant_grasp", "plate", "sphere"});
     ScenarioTool t;
     if (type == "sphere") {
       // Its value is its centre: a path of [frame, x, y, z] waypoints (a constant
@@ -123,6 +123,12 @@ std::vector<ScenarioTool> parse_tools(StrictObject& scenario) {
     if (type == "grasp") {
       const Eigen::Vector3d point = o.vec3("point", std::nullopt);
       t.tool = Tool::grasp(point, o.number("radius", std::nullopt, 1e-12, 1e9), key);
+    } else if (type == "compliant_grasp") {
+      // The pads' stiffness kappa (Pa/m): about E_pad / thickness for a pad of
+      // modulus E_pad; a tissue-soft pad 1 mm thick on 3 kPa tissue, 3e6.
+      const Eigen::Vector3d point = o.vec3("point", std::nullopt);
+      const double radius = o.number("radius", std::nullopt, 1e-12, 1e9);
+      t.tool = Tool::compliant_grasp(point, radius, o.number("pad_stiffness", std::nullopt, 1e-12, 1e18), key);
     } else {
       StrictObject box = o.object("box");
       SupportBox b;
@@ -236,9 +242,10 @@ nlohmann::json to_json(const ScenarioLoad& l) {
 
 nlohmann::json to_json(const ScenarioTool& t) {
   nlohmann::json j = {{"key", t.tool.key}, {"type", name(t.tool.kind)}, {"schedule", t.schedule.to_json()}};
-  if (t.tool.kind == ToolKind::Grasp) {
+  if (t.tool.holds_a_disc()) {
     j["point"] = vec(t.tool.point);
     j["radius"] = t.tool.radius;
+    if (t.tool.kind == ToolKind::CompliantGrasp) j["pad_stiffness"] = t.tool.pad_stiffness;
   } else if (t.tool.kind == ToolKind::Sphere) {
     j["radius"] = t.tool.radius;
   } else {

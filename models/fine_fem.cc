@@ -1,5 +1,6 @@
 #include "fine_fem.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -21,7 +22,9 @@ class FineFem : public Model {
     try {
       // Tools: the fine-volume nodes of the surface vertices they hold, as Dirichlet values.
       // Spheres hold no node: each is an active set of contacts (sphere_contact.h).
+      // A compliant grasp holds them by springs (its pads) and pulls them by a load.
       std::vector<PrescribedGroup> groups;
+      std::vector<NodeSpring> springs;
       for (size_t t = 0; t < p.load_case.tools.size(); ++t) {
         const Tool& tool = p.load_case.tools[t];
         const std::vector<int> held = tool_vertices(tool, h.fine_surface, p.load_case.support);
@@ -29,16 +32,38 @@ class FineFem : public Model {
           spheres_.push_back(t);
           continue;
         }
+        if (tool.kind == ToolKind::CompliantGrasp) {
+          pads_.push_back({t, pad_springs(tool, held, h.fine_surface, h.fine_surface_to_volume)});
+          springs.insert(springs.end(), pads_.back().springs.begin(), pads_.back().springs.end());
+          continue;
+        }
         group_of_tool_.emplace_back(t, groups.size());
         groups.push_back(fine_volume_group(tool, held, h.fine_surface_to_volume));
       }
       body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
-                                            p.load_case.support.clamp(h.fine_volume.V, "fine volume"), groups);
+                                            p.load_case.support.clamp(h.fine_volume.V, "fine volume"), groups,
+                                            springs);
       solve_ = make_solve_(*body_, p);
-      // Eq. (10): each load's consistent nodal forces on the fine volume.
-      loads_ = std::make_unique<BodyLoads>(
-          *body_, place_on_volume(p.load_case.loads, {&h.fine_volume, "fine volume", &h.fine_surface,
-                                                      &h.fine_surface_to_volume, p.material.density}));
+      if (!pads_.empty() && !solve_->takes_springs())
+        throw std::invalid_argument(p.load_case.tools[pads_.front().tool].key +
+                                    " (compliant_grasp): this solver has no springs for its pads (the linear "
+                                    "solvers, newton, vbd and pd have)");
+      // Eq. (10): each load's consistent nodal forces on the fine volume; then each
+      // compliant grasp's pull k_i d on its pads' nodes, a load whose value is d.
+      std::vector<NodalWeights> per_load = place_on_volume(
+          p.load_case.loads,
+          {&h.fine_volume, "fine volume", &h.fine_surface, &h.fine_surface_to_volume, p.material.density});
+      for (const Pads& pads : pads_) {
+        NodalWeights w;
+        w.nodes.resize(static_cast<Eigen::Index>(pads.springs.size()));
+        w.weights.resize(w.nodes.size());
+        for (size_t i = 0; i < pads.springs.size(); ++i) {
+          w.nodes(static_cast<Eigen::Index>(i)) = pads.springs[i].node;
+          w.weights(static_cast<Eigen::Index>(i)) = pads.springs[i].stiffness;
+        }
+        per_load.push_back(std::move(w));
+      }
+      loads_ = std::make_unique<BodyLoads>(*body_, std::move(per_load));
       frame_ = std::make_unique<ElasticFrame>(*body_, *loads_, *solve_);
       probes_ = place_probes(p.probes, h.fine_volume, "fine volume", false);
       if (!spheres_.empty()) {
@@ -54,6 +79,7 @@ class FineFem : public Model {
       const std::string what = e.what();
       throw std::invalid_argument(what.rfind(name_ + ": ", 0) == 0 ? what : name_ + ": " + what);  // named once
     }
+    load_values_.assign(p.load_case.loads.size() + pads_.size(), Eigen::Vector3d::Zero());
     reactions_.assign(p.load_case.tools.size() + 1, Eigen::Vector3d::Zero());
     contacts_.assign(p.load_case.tools.size(), ToolContact{});
     group_values_.assign(group_of_tool_.size(), Eigen::Vector3d::Zero());
@@ -68,23 +94,33 @@ class FineFem : public Model {
   void step(const FrameLoads& loads) override {
     const auto start = std::chrono::steady_clock::now();
     for (size_t g = 0; g < group_of_tool_.size(); ++g) group_values_[g] = loads.tool_values[group_of_tool_[g].first];
+    std::copy(loads.values.begin(), loads.values.end(), load_values_.begin());
+    for (size_t k = 0; k < pads_.size(); ++k) load_values_[loads.values.size() + k] = loads.tool_values[pads_[k].tool];
     for (size_t k = 0; k < spheres_.size(); ++k)
       centres_.row(static_cast<Eigen::Index>(k)) = loads.tool_values[spheres_[k]].transpose();
     SphereObstacles* own = solve_->spheres();
     if (own) own->set(centres_, radii_);
-    frame_->step(loads.values, group_values_, u_);
+    frame_->step(load_values_, group_values_, u_);
     if (contact_) contact_->solve(centres_, radii_, u_);
     phases_[0].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The fine surface's vertices are volume nodes: read their nodal values.
     for (size_t v = 0; v < surface_to_volume_.size(); ++v)
       surface_u_.row(static_cast<Eigen::Index>(v)) = u_.segment<3>(3 * surface_to_volume_[v]).transpose();
     if (contact_)
-      measure_spheres(*contact_, loads, nullptr);
+      measure_spheres(*contact_, nullptr);
     else if (own)
-      measure_spheres(*own, loads, solve_->internal_force());
+      measure_spheres(*own, solve_->internal_force());
     else {
       for (const auto& [t, g] : group_of_tool_) reactions_[t] = frame_->group_forces()[g];
       reactions_.back() = frame_->support_force();
+    }
+    // A compliant grasp: the force the body exerts on the jaw through its pads,
+    // sum k_i (u_i - d) (the rigid grasp's f - f_int at its held nodes, in sign).
+    for (const Pads& pads : pads_) {
+      Eigen::Vector3d& r = reactions_[pads.tool];
+      r.setZero();
+      for (const NodeSpring& k : pads.springs)
+        r += k.stiffness * (u_.segment<3>(3 * k.node) - loads.tool_values[pads.tool]);
     }
     interpolate_probes(probes_, body_->mesh().T, u_, probe_u_);
   }
@@ -106,10 +142,10 @@ class FineFem : public Model {
   /// The spheres' forces and contacts from `contact` (SphereContact or a solve's
   /// SphereObstacles: the same accessors), and the reactions of the held nodes and
   /// the support, which the contact forces moved, again at the final u (with a
-  /// nonlinear solve's internal force).
+  /// nonlinear solve's internal force), under this frame's load_values_.
   template <class Contact>
-  void measure_spheres(const Contact& contact, const FrameLoads& loads, const Eigen::VectorXd* internal_force) {
-    loads_->assemble_full(loads.values, f_full_);
+  void measure_spheres(const Contact& contact, const Eigen::VectorXd* internal_force) {
+    loads_->assemble_full(load_values_, f_full_);
     for (const auto& [node, f] : contact.node_forces()) f_full_.segment<3>(3 * node) += f;
     body_->reactions(u_, f_full_, group_forces_, reactions_.back(), internal_force);
     for (const auto& [t, g] : group_of_tool_) reactions_[t] = group_forces_[g];
@@ -136,6 +172,12 @@ class FineFem : public Model {
   Eigen::VectorXd u_;
   Displacements surface_u_;
   std::vector<std::pair<size_t, size_t>> group_of_tool_;  // (tool, prescribed group) of the tools that hold nodes
+  struct Pads {
+    size_t tool = 0;                  // a compliant grasp
+    std::vector<NodeSpring> springs;  // its pads (pad_springs)
+  };
+  std::vector<Pads> pads_;
+  std::vector<Eigen::Vector3d> load_values_;  // this frame's: the loads', then each compliant grasp's d
   std::vector<Eigen::Vector3d> group_values_, group_forces_;
   std::vector<size_t> spheres_;  // the tools that are spheres
   std::unique_ptr<SphereContact> contact_;
@@ -153,15 +195,17 @@ std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolve
 
 void describe_fine_fem(ModelInfo& m) {
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
-  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere};
+  m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate, ToolKind::Sphere,
+             ToolKind::CompliantGrasp};
   m.tools_how = "the fine-volume nodes of the held surface vertices, as Dirichlet values (K_ff u_f = f_f - K_fp u_p); "
                 "a sliding plate holds the normal component only (the corotational solver: on its rotated system); a "
                 "sphere: an active set of normal contact multipliers on the factorised K (direct or iterative solver), "
                 "or a primal-dual active set on the linearised gaps inside Newton (newton solver, any law; not "
-                "corotational)";
+                "corotational); a compliant grasp: a spring k_i = pad_stiffness x vertex area from each held vertex's "
+                "node to the jaw, in K (linear solvers) or in f_int and the tangent (newton; not corotational)";
   m.reactions = "f - K u at the held dofs (f - f_int(u) for the corotational and Newton solves), summed per tool "
                 "and over the support (static equilibrium); a sphere: minus the sum of its contact multipliers "
-                "lambda_i n_i";
+                "lambda_i n_i; a compliant grasp: sum k_i (u_i - d) over its pads";
   m.probes = "P1 interpolation in the fine tet containing the probe";
 }
 

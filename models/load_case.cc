@@ -36,6 +36,8 @@ const char* name(ToolKind kind) {
       return "sliding_plate";
     case ToolKind::Sphere:
       return "sphere";
+    case ToolKind::CompliantGrasp:
+      return "compliant_grasp";
   }
   return "unknown";
 }
@@ -64,6 +66,13 @@ Tool Tool::sphere(const Eigen::Vector3d& first_centre, double radius, std::strin
   t.key = std::move(key);
   t.point = first_centre;
   t.radius = radius;
+  return t;
+}
+
+Tool Tool::compliant_grasp(const Eigen::Vector3d& point, double radius, double pad_stiffness, std::string key) {
+  Tool t = grasp(point, radius, std::move(key));
+  t.kind = ToolKind::CompliantGrasp;
+  t.pad_stiffness = pad_stiffness;
   return t;
 }
 

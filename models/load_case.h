@@ -71,10 +71,17 @@ enum class ToolKind {
   /// and leaves it where the tissue pulls away; holds no vertex at setup. Value: its
   /// centre (m), not a displacement (docs/equations.md, "Contact with a rigid sphere").
   Sphere,
+  /// A grasp through compliant jaw pads: the same vertices as Grasp, each tied to the
+  /// jaw by a zero-length spring of stiffness pad_stiffness times its vertex area
+  /// (ContactArea), a traction kappa (d - u) on the patch (a Robin condition) in
+  /// place of the rigid patch's Dirichlet values, whose rim is a strain singularity
+  /// (docs/equations.md, "A grasp through compliant pads"). Value: the jaw's
+  /// displacement (m).
+  CompliantGrasp,
 };
 inline constexpr ToolKind kToolKinds[] = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::SlidingPlate,
-                                          ToolKind::Sphere};
-/// "grasp", "bonded_plate", "sliding_plate", "sphere".
+                                          ToolKind::Sphere, ToolKind::CompliantGrasp};
+/// "grasp", "bonded_plate", "sliding_plate", "sphere", "compliant_grasp".
 const char* name(ToolKind kind);
 
 /// A tool as placed in the rest configuration, fixed for the run: the surface
@@ -87,10 +94,15 @@ struct Tool {
   double radius = 0;  ///< Grasp: vertices within this distance of `point` (m); Sphere: its radius (m)
   SupportBox box;                                   ///< Plate: vertices whose rest position is in the box
   int normal_axis = 2;                              ///< SlidingPlate: 0, 1, 2 for x, y, z
+  double pad_stiffness = 0;  ///< CompliantGrasp: the pads' traction per unit of relative displacement, Pa/m
 
   static Tool grasp(const Eigen::Vector3d& point, double radius, std::string key = "tools[0]");
   static Tool plate(const SupportBox& box, bool sliding, int normal_axis = 2, std::string key = "tools[0]");
   static Tool sphere(const Eigen::Vector3d& first_centre, double radius, std::string key = "tools[0]");
+  static Tool compliant_grasp(const Eigen::Vector3d& point, double radius, double pad_stiffness,
+                              std::string key = "tools[0]");
+  /// Grasp and CompliantGrasp: the tools that hold the vertices within a radius of a point.
+  bool holds_a_disc() const { return kind == ToolKind::Grasp || kind == ToolKind::CompliantGrasp; }
 };
 
 /// A sphere starting inside the body by more than this fraction of its radius is an

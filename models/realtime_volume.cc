@@ -14,11 +14,16 @@ class OnVolume : public Model {
   void setup(const Problem& p) override {
     volume_ = p.parameters.choice("volume");
     if (volume_ == "coarse_embedded")
-      for (const Tool& tool : p.load_case.tools)
+      for (const Tool& tool : p.load_case.tools) {
         if (tool.kind == ToolKind::Sphere)
           throw std::invalid_argument(name_ +
                                       ": volume coarse_embedded takes no sphere (the coarse stepper has no contact "
                                       "set on the embedded surface); use volume fine");
+        if (tool.kind == ToolKind::CompliantGrasp)
+          throw std::invalid_argument(name_ + ": " + tool.key +
+                                      " (compliant_grasp): volume coarse_embedded has no pads (the coarse mesh is "
+                                      "held at its own nodes); use volume fine");
+      }
     inner_ =
         volume_ == "coarse_embedded" ? make_coarse_embedded(name_, make_solve_) : make_fine_fem(name_, make_solve_);
     inner_->setup(p);
@@ -58,19 +63,21 @@ std::unique_ptr<Model> make_on_volume(const std::string& model_name, ElasticSolv
 }
 
 void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const std::string& reactions,
-                        const std::string& sphere_how) {
+                        const std::string& sphere_how, const std::string& pads_how) {
   describe_fine_fem(m);
   ModelInfo coarse;
   describe_coarse_fem(coarse);
   m.tools = coarse.tools;
   m.tools.push_back(ToolKind::Sphere);  // on the fine volume only (setup refuses it on the coarse one)
+  if (!pads_how.empty()) m.tools.push_back(ToolKind::CompliantGrasp);  // the same
   m.tools_how = "volume fine: the fine-volume nodes of the held surface vertices: " + fine_tools_how +
-                "; a sphere: " + sphere_how +
+                "; a sphere: " + sphere_how + (pads_how.empty() ? "" : "; a compliant grasp: " + pads_how) +
                 ". Volume coarse_embedded: the same on the coarse nodes nearest the held surface vertices (a tool "
                 "smaller than the coarse spacing becomes a point-like hold); no sphere (the coarse stepper has no "
-                "contact set on the embedded surface)";
+                "contact set on the embedded surface) and no compliant grasp";
   m.reactions = reactions + " (the fine or the coarse volume's nodes); a sphere: the normal part of that balance at "
-                "its contact nodes (xpbd_neo: of its contact multipliers, lambda / h_sub^2)";
+                "its contact nodes (xpbd_neo: of its contact multipliers, lambda / h_sub^2)" +
+                (pads_how.empty() ? "" : "; a compliant grasp: sum k_i (x_i - X_i - d) over its pads");
   m.probes = "volume fine: " + m.probes + "; volume coarse_embedded: " + coarse.probes;
 }
 

@@ -26,8 +26,10 @@ std::unique_ptr<Model> make_on_volume(const std::string& model_name, ElasticSolv
 /// ModelInfo of a real-time stepper model: loads, tools, and how it holds tools,
 /// measures reactions and gives probes on either volume; `fine_tools_how` and
 /// `reactions` say how the stepper holds a node and what it measures there (the
-/// same on either volume), `sphere_how` how it meets a sphere (fine volume only).
+/// same on either volume), `sphere_how` how it meets a sphere (fine volume only),
+/// `pads_how` how it holds a compliant grasp's pads (fine volume only; empty: the
+/// stepper takes none).
 void describe_on_volume(ModelInfo& info, const std::string& fine_tools_how, const std::string& reactions,
-                        const std::string& sphere_how);
+                        const std::string& sphere_how, const std::string& pads_how = "");
 
 }  // namespace tb

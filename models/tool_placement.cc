@@ -76,16 +76,18 @@ std::vector<int> tool_vertices(const Tool& tool, const SurfaceMesh& surface, con
   double nearest = std::numeric_limits<double>::infinity();
   if (tool.kind == ToolKind::SlidingPlate && (tool.normal_axis < 0 || tool.normal_axis > 2))
     fail(tool, "normal axis " + std::to_string(tool.normal_axis) + " is not 0, 1 or 2");
-  if (tool.kind == ToolKind::Grasp && !(std::isfinite(tool.radius) && tool.radius > 0))
+  if (tool.holds_a_disc() && !(std::isfinite(tool.radius) && tool.radius > 0))
     fail(tool, "radius " + std::to_string(tool.radius) + " is not a positive length (m)");
+  if (tool.kind == ToolKind::CompliantGrasp && !(std::isfinite(tool.pad_stiffness) && tool.pad_stiffness > 0))
+    fail(tool, "pad stiffness " + std::to_string(tool.pad_stiffness) + " is not a positive traction per metre (Pa/m)");
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     const Eigen::Vector3d x = V.row(v).transpose();
-    const double d = tool.kind == ToolKind::Grasp ? (x - tool.point).norm() : 0;
+    const double d = tool.holds_a_disc() ? (x - tool.point).norm() : 0;
     nearest = std::min(nearest, d);
-    if (tool.kind == ToolKind::Grasp ? d <= tool.radius : tool.box.contains(x)) held.push_back(static_cast<int>(v));
+    if (tool.holds_a_disc() ? d <= tool.radius : tool.box.contains(x)) held.push_back(static_cast<int>(v));
   }
   if (held.empty()) {
-    if (tool.kind == ToolKind::Grasp) {
+    if (tool.holds_a_disc()) {
       std::ostringstream msg;
       msg << "a radius of " << tool.radius << " m around " << point_text(tool.point)
           << " catches no surface vertex (the nearest is " << nearest << " m away)";
@@ -139,6 +141,19 @@ double ContactArea::area(const std::vector<int>& vertices) const {
   double sum = 0;
   for (int v : vertices) sum += vertex_area_(v);
   return sum;
+}
+
+std::vector<NodeSpring> pad_springs(const Tool& tool, const std::vector<int>& vertices, const SurfaceMesh& surface,
+                                    const std::vector<int>& surface_to_volume) {
+  if (tool.kind != ToolKind::CompliantGrasp) fail(tool, "only a compliant grasp has pads");
+  const ContactArea area(surface);
+  std::vector<NodeSpring> springs;
+  for (int v : vertices) {
+    if (v < 0 || static_cast<size_t>(v) >= surface_to_volume.size())
+      fail(tool, "surface vertex " + std::to_string(v) + " has no node in the volume");
+    springs.push_back({surface_to_volume[static_cast<size_t>(v)], tool.pad_stiffness * area.area({v})});
+  }
+  return springs;
 }
 
 std::vector<TetEmbedding> place_probes(const Points& probes, const TetMesh& volume, const std::string& mesh_name,

@@ -60,6 +60,15 @@ class ContactArea {
   Eigen::VectorXd vertex_area_;  ///< a third of each vertex's triangles' area
 };
 
+/// The pads of a compliant grasp on a volume whose node surface_to_volume[v] is
+/// surface vertex v: per held vertex, its node and the spring stiffness
+/// pad_stiffness times its vertex area (ContactArea), N/m, in the order of
+/// `vertices`: the consistent discretisation on P1 triangles of the pad traction
+/// kappa (d - u) (exact for a uniform u). Throws std::invalid_argument naming the
+/// tool for another kind or a vertex with no node.
+std::vector<NodeSpring> pad_springs(const Tool& tool, const std::vector<int>& vertices, const SurfaceMesh& surface,
+                                    const std::vector<int>& surface_to_volume);
+
 /// Where each probe point sits in `volume`: its containing tet (within a relative
 /// tolerance of 1e-6 of the mesh size), or with `nearest` the nearest tet,
 /// extrapolated (a coarse mesh whose hull lies inside the surface). Throws

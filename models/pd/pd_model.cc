@@ -28,7 +28,9 @@ ModelInfo pd_model_info() {
       "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
       "implicit-Euler balance of the held nodes)",
       "the linearised gaps of the surface nodes in it as constraints of the global step (multipliers by a Schur "
-      "complement on A's factor; L-BFGS history dropped while any is in contact)");
+      "complement on A's factor; L-BFGS history dropped while any is in contact)",
+      "each pad's spring k_i on the global matrix's diagonal beside m / h^2 (prefactorised with it), its pull in "
+      "the inertial target");
   return m;
 }
 

@@ -27,7 +27,8 @@ ModelInfo vbd_model_info() {
       "f - f_int(x) - m (x - x_n - h v_n) / h^2 at the held dofs, summed per tool and over the support (the "
       "implicit-Euler balance of the held nodes)",
       "the linearised gap as a constraint of each surface vertex's 3x3 Newton step (a projection in the metric of its "
-      "block, not a penalty)");
+      "block, not a penalty)",
+      "each pad's spring k_i in its vertex's 3x3 Newton step beside m / h^2 (an exact quadratic term)");
   return m;
 }
 

@@ -88,6 +88,29 @@ class Bands(unittest.TestCase):
         self.assertEqual(cells[5], "1.000")
         self.assertEqual(cells[6:], ["n/a", "1.000", "1.000", "1.000", "1.000"])  # the nearest free centroid 0.94 mm away
 
+    def test_a_compliant_grasps_patch_is_chosen_by_its_rest_disc(self):
+        # The same strip, vertex 0 lifted by pads that lag the jaw (0.7 of it): no
+        # vertex moves by the jaw's displacement, the disc of 0.5 mm around the
+        # origin holds vertex 0 alone, and its rim triangle stretches by the lag's lift.
+        n = 8
+        points = np.array([[1e-3 * i, 1e-3 * j, 0] for i in range(n) for j in range(2)])
+        triangles = np.array([t for i in range(n - 1) for t in ([2 * i, 2 * i + 2, 2 * i + 1],
+                                                               [2 * i + 2, 2 * i + 3, 2 * i + 1])])
+        displacement = np.zeros_like(points)
+        displacement[0] = [0, 0, 0.7e-4]
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "surface.vtu")
+            write_vtu(path, points + displacement, displacement, triangles)
+            script = os.path.join(ROOT, "analysis", "rim_strain.py")
+            out = subprocess.run([sys.executable, script, "--patch", "0", "0", "0", "0.0005", f"strip={path}"],
+                                 capture_output=True, text=True, check=True).stdout
+            by_jaw = subprocess.run([sys.executable, script, "--displacement", "0", "0", "1e-4", f"strip={path}"],
+                                    capture_output=True, text=True)
+        cells = [c.strip() for c in out.strip().splitlines()[-1].split("|")[1:-1]]
+        self.assertEqual(cells[3], "1")
+        self.assertAlmostEqual(float(cells[4]), np.sqrt(1 + 2 * 0.07**2), places=3)
+        self.assertNotEqual(by_jaw.returncode, 0)  # no vertex moves with the jaw
+
     def test_no_held_vertex_is_a_one_line_error(self):
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "surface.vtu")

@@ -1,6 +1,7 @@
 #include "elastic_body.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <stdexcept>
 
@@ -23,7 +24,7 @@ void use_one_thread() {
 }
 
 ElasticBody::ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
-                         std::vector<PrescribedGroup> prescribed)
+                         std::vector<PrescribedGroup> prescribed, const std::vector<NodeSpring>& springs)
     : mesh_(mesh), material_(material), groups_(std::move(prescribed)) {
   if (clamped.size() != static_cast<size_t>(mesh.V.rows()))
     throw std::invalid_argument("clamped flags: one per node expected");
@@ -62,6 +63,24 @@ ElasticBody::ElasticBody(const TetMesh& mesh, const Material& material, const st
   if (clamped_dof_.empty() && prescribed_dof_.empty())
     throw std::invalid_argument("no node is clamped: the support selects nothing, so K is singular");
   if (free_to_full_.empty()) throw std::invalid_argument("every node is clamped or prescribed: nothing can move");
+  if (!springs.empty()) {
+    spring_stiffness_ = Eigen::VectorXd::Zero(mesh.V.rows());
+    for (const NodeSpring& s : springs) {
+      if (s.node < 0 || s.node >= mesh.V.rows())
+        throw std::invalid_argument("spring: node " + std::to_string(s.node) + " is not a node of the mesh");
+      if (!(std::isfinite(s.stiffness) && s.stiffness > 0))
+        throw std::invalid_argument("spring at node " + std::to_string(s.node) + ": stiffness " +
+                                    std::to_string(s.stiffness) + " N/m is not positive and finite");
+      for (int c = 0; c < 3; ++c)
+        if (free_index(3 * s.node + c) < 0)
+          throw std::invalid_argument("spring at node " + std::to_string(s.node) +
+                                      ": the node is clamped or prescribed (a spring pulls a free node)");
+      spring_stiffness_(s.node) += s.stiffness;
+    }
+    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
+      for (int c = 0; c < 3; ++c)
+        if (spring_stiffness_(v) != 0) K_full_.coeffRef(3 * v + c, 3 * v + c) += spring_stiffness_(v);
+  }
 
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<size_t>(K_full_.nonZeros()));

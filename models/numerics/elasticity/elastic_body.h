@@ -34,6 +34,15 @@ struct PrescribedGroup {
   bool components[3] = {true, true, true};     ///< which of x, y, z are prescribed
 };
 
+/// A zero-length spring from a node to a point that moves with a tool (a compliant
+/// grasp's pad, tool_placement.h): stiffness k, N/m, alike in x, y and z. It adds
+/// k |u - d|^2 / 2 to the body's energy: k I to K at the node, and k d to the
+/// force, which the caller supplies as a load (weights k, value d).
+struct NodeSpring {
+  int node = 0;
+  double stiffness = 0;
+};
+
 class ElasticBody {
  public:
   /// Assembles K (deal.II, stiffness_assembly.h) and removes the clamped and the
@@ -43,8 +52,11 @@ class ElasticBody {
   /// Throws std::invalid_argument if nothing is clamped or prescribed (K is
   /// singular), if everything is, or if a group names a clamped node, a node twice
   /// or none. (Prescribed groups alone must hold the body's rigid motions.)
+  ///   springs  zero-length springs on free nodes (NodeSpring), in K_full and K_free;
+  ///            a node listed twice gets the sum. Throws std::invalid_argument for a
+  ///            spring on a clamped or prescribed node, or one not positive and finite.
   ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
-              std::vector<PrescribedGroup> prescribed = {});
+              std::vector<PrescribedGroup> prescribed = {}, const std::vector<NodeSpring>& springs = {});
 
   const TetMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
@@ -64,6 +76,10 @@ class ElasticBody {
   void to_full(const Eigen::VectorXd& u_free, Eigen::VectorXd& u) const;
 
   const std::vector<PrescribedGroup>& prescribed_groups() const { return groups_; }
+  /// Per node, the summed stiffness of its springs (N/m; #V, 0 where none): what a
+  /// nonlinear strategy adds to its internal force (k u) and tangent (k I), since
+  /// it assembles its own. Empty when the body has no spring.
+  const Eigen::VectorXd& spring_stiffness() const { return spring_stiffness_; }
   /// f_free -= K_fp u_p, u_p the prescribed dofs at `group_values` (#G, one per
   /// group). No allocation.
   void subtract_prescribed(const std::vector<Eigen::Vector3d>& group_values, Eigen::VectorXd& f_free) const;
@@ -87,6 +103,7 @@ class ElasticBody {
   std::vector<int> full_to_free_;  ///< -1 for clamped and prescribed dofs
   std::vector<int> free_to_full_;
   std::vector<PrescribedGroup> groups_;
+  Eigen::VectorXd spring_stiffness_;
   std::vector<int> prescribed_dof_, prescribed_group_;  ///< each prescribed dof and its group
   std::vector<int> clamped_dof_;                        ///< every clamped dof
   Eigen::SparseMatrix<double> K_fp_;                    ///< free rows by prescribed dofs

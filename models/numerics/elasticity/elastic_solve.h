@@ -60,6 +60,12 @@ class ElasticSolve {
   /// (the static Newton solve, the real-time steppers); the linear strategies leave
   /// them to SphereContact (sphere_contact.h), the others take none.
   virtual bool takes_spheres() const { return false; }
+  /// Whether this strategy solves the body's springs (ElasticBody::spring_stiffness,
+  /// a compliant grasp's pads): a linear one does, as they are in the body's K; a
+  /// nonlinear one only if it adds them to the internal force and tangent it
+  /// assembles (the Newton solve, VBD, PD). A model refuses a compliant grasp on a
+  /// strategy that does not.
+  virtual bool takes_springs() const { return linear(); }
   /// Turns the spheres on, acting on `surface_nodes` (the body node of each surface
   /// vertex): from then on spheres() is the set the caller moves before each solve()
   /// and reads the contact from after it. Throws std::logic_error where

@@ -127,6 +127,7 @@ class NewtonSolve : public ElasticSolve {
 
   bool linear() const override { return false; }
   bool takes_spheres() const override { return true; }
+  bool takes_springs() const override { return true; }
   const Eigen::VectorXd* internal_force() const override { return &f_int_solution_; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
@@ -420,6 +421,14 @@ class NewtonSolve : public ElasticSolve {
       const Eigen::Matrix<double, 12, 12> Ke = s.volume * (G.transpose() * (law_.tangent(F, lame_) * G));
       const int* at = &scatter_[static_cast<size_t>(t) * 144];
       for (int k = 0; k < 144; ++k) K_full_.valuePtr()[at[k]] += Ke.data()[k];
+    }
+    // The body's springs (a compliant grasp's pads): k u and k I; their pull k d is in f.
+    const Eigen::VectorXd& springs = body_.spring_stiffness();
+    for (Eigen::Index v = 0; v < springs.size(); ++v) {
+      if (springs(v) == 0) continue;
+      f_int_.segment<3>(3 * v) += springs(v) * u.segment<3>(3 * v);
+      if (tangent)
+        for (int c = 0; c < 3; ++c) K_full_.valuePtr()[diagonal_[static_cast<size_t>(3 * v + c)]] += springs(v);
     }
     if (o_.time_step > 0) {  // the inertia of implicit Euler, around the last step's state
       f_int_.array() += inertia_.array() * (u - u_converged_ - o_.time_step * velocity_).array();

@@ -7,8 +7,8 @@
 
 namespace tb {
 
-PdGlobalMatrix::PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>& shapes, const Eigen::VectorXd& mass,
-                               const Eigen::Matrix3Xd& free, double h, double weight) {
+PdGlobalMatrix::PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>& shapes,
+                               const Eigen::VectorXd& node_weight, const Eigen::Matrix3Xd& free, double weight) {
   const Eigen::Index n = free.cols();
   for (int c = 0; c < 3; ++c) {
     std::vector<int> nodes;
@@ -22,7 +22,7 @@ PdGlobalMatrix::PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>&
     for (size_t k = 0; k < nodes.size(); ++k) row[static_cast<size_t>(nodes[k])] = static_cast<int>(k);
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(nodes.size() + 10 * static_cast<size_t>(T.rows()));
-    for (int v : nodes) entries.emplace_back(row[static_cast<size_t>(v)], row[static_cast<size_t>(v)], mass(v) / (h * h));
+    for (int v : nodes) entries.emplace_back(row[static_cast<size_t>(v)], row[static_cast<size_t>(v)], node_weight(v));
     for (Eigen::Index t = 0; t < T.rows(); ++t) {
       const TetShape& s = shapes[static_cast<size_t>(t)];
       for (int a = 0; a < 4; ++a)

@@ -1,7 +1,8 @@
 // The global matrix of Projective Dynamics (Bouaziz, Martin, Liu, Kavan and Pauly
 // 2014) on P1 tets with a lumped mass, restricted to the free dofs:
-//   A = M / h^2 + sum_t w V_t G_t^T G_t,
-// G_t the tet's deformation-gradient operator (tet_element.h). Since G_t^T G_t acts
+//   A = M / h^2 + K_s + sum_t w V_t G_t^T G_t,
+// G_t the tet's deformation-gradient operator (tet_element.h), K_s the body's
+// springs (a compliant grasp's pads), diagonal like the mass. Since G_t^T G_t acts
 // on the three coordinates alike, A = (M/h^2 + L_w) (x) I_3, L_w the scalar Laplacian
 // of the tets with entries w V_t g_a . g_b; a held component removes its row and
 // column, so A is three decoupled n-by-n systems, coordinate c restricted to the
@@ -21,10 +22,11 @@ namespace tb {
 
 class PdGlobalMatrix {
  public:
-  /// T: #T by 4; shapes: each tet's (tet_shape); mass: lumped, per node; free: 3 by #V,
-  /// 1 where a component moves; h: the time step, s; weight: w per unit volume, Pa.
-  PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>& shapes, const Eigen::VectorXd& mass,
-                 const Eigen::Matrix3Xd& free, double h, double weight);
+  /// T: #T by 4; shapes: each tet's (tet_shape); node_weight: per node, m / h^2 plus
+  /// its springs' stiffness, N/m (the lumped mass over the squared time step h);
+  /// free: 3 by #V, 1 where a component moves; weight: w per unit volume, Pa.
+  PdGlobalMatrix(const Tetrahedra& T, const std::vector<TetShape>& shapes, const Eigen::VectorXd& node_weight,
+                 const Eigen::Matrix3Xd& free, double weight);
   ~PdGlobalMatrix();
 
   /// z = A^-1 q over the free components (q, z: 3 by #V; z is zero where held and q

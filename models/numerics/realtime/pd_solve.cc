@@ -49,7 +49,9 @@ class PdSolve : public TetTimeStepper<Law> {
   PdSolve(const ElasticBody& body, const Law& law, const PdSettings& settings, double weight, bool defined_when_inverted)
       : Base(body, law, settings.stepping, "pd"), o_(settings), weight_(weight), keep_positive_(!defined_when_inverted) {
     const Eigen::Index n = x_.cols(), tets = T_.rows();
-    global_ = std::make_unique<PdGlobalMatrix>(T_, shapes_, mass_, free_, s_.time_step, weight_);
+    Eigen::VectorXd node_weight(n);
+    for (Eigen::Index v = 0; v < n; ++v) node_weight(v) = this->node_weight(v, s_.time_step * s_.time_step);
+    global_ = std::make_unique<PdGlobalMatrix>(T_, shapes_, node_weight, free_, weight_);
     around_ = vertex_tets(T_, static_cast<int>(n));
     // One pass over the tets (the local step: stress and energy), then one over the nodes (the gradient).
     passes_.resize(2);
@@ -76,6 +78,8 @@ class PdSolve : public TetTimeStepper<Law> {
   }
 
  protected:
+  bool takes_springs() const override { return true; }
+
   void advance() override {
     const double h = s_.time_step, h2 = h * h;
     const Eigen::Index n = x_.cols();
@@ -86,6 +90,10 @@ class PdSolve : public TetTimeStepper<Law> {
         y_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) + h2 * this->f_ext_(i, v) / mass_(v) : this->target_(i, v);
         x_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) : this->target_(i, v);
       }
+    // With springs, the target of each node's inertia and springs (node_target); a
+    // held component's stays the tool's (a spring pulls free nodes only).
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (this->spring_(v) != 0) y_.col(v) = this->node_target(v, y_.col(v), h2);
     iterate(h2);
     for (Eigen::Index v = 0; v < n; ++v)
       for (int i = 0; i < 3; ++i)
@@ -392,7 +400,7 @@ class PdSolve : public TetTimeStepper<Law> {
         return;
       }
       const int v = static_cast<int>(k - tets);
-      Eigen::Vector3d g = (mass_(v) / h2) * (x.col(v) - y_.col(v));
+      Eigen::Vector3d g = this->node_weight(v, h2) * (x.col(v) - y_.col(v));
       for (int j = around_.offset[static_cast<size_t>(v)]; j < around_.offset[static_cast<size_t>(v) + 1]; ++j) {
         const auto [t, a] = around_.around[static_cast<size_t>(j)];
         g += tet_force_.col(4 * t + a);
@@ -406,7 +414,7 @@ class PdSolve : public TetTimeStepper<Law> {
       if (!valid_[static_cast<size_t>(t)]) return std::numeric_limits<double>::infinity();
       energy += tet_energy_(t);
     }
-    for (Eigen::Index v = 0; v < x.cols(); ++v) energy += mass_(v) / (2 * h2) * (x.col(v) - y_.col(v)).squaredNorm();
+    for (Eigen::Index v = 0; v < x.cols(); ++v) energy += this->node_weight(v, h2) / 2 * (x.col(v) - y_.col(v)).squaredNorm();
     return energy;
   }
 

@@ -123,6 +123,7 @@ class TetTimeStepper : public ElasticSolve {
           held_tets_.push_back(static_cast<int>(t));
           break;
         }
+    spring_ = body.spring_stiffness().size() == n ? body.spring_stiffness() : Eigen::VectorXd::Zero(n);
     reaction_force_ = Eigen::VectorXd::Zero(3 * n);
     tet_forces_.resize(held_tets_.size());
     if (s_.threads > 1) {
@@ -133,6 +134,9 @@ class TetTimeStepper : public ElasticSolve {
 
   bool linear() const override { return false; }
   bool takes_spheres() const override { return true; }
+  /// The body's springs: a stepper that folds them into its nodes' quadratic term
+  /// (node_weight, node_target) says so (VBD, PD); XPBD does not.
+  bool takes_springs() const override { return false; }
   /// Exact at the held dofs only (the reactions read no other; tet_time_stepping.h).
   const Eigen::VectorXd* internal_force() const override { return &reaction_force_; }
 
@@ -183,6 +187,20 @@ class TetTimeStepper : public ElasticSolve {
   /// afterwards; a stepper may move them there gradually).
   virtual void advance() = 0;
   virtual nlohmann::json own_report() const = 0;
+
+  // --- The nodes' quadratic term: inertia and springs ---
+  // Implicit Euler's inertia m / h^2 |x - y|^2 / 2 (y = x_n + h v_n + h^2 f / m, f
+  // holding a spring's pull k d) and a spring's k |x - X|^2 / 2 (ElasticBody's
+  // springs: a compliant grasp's pads) sum to w |x - y'|^2 / 2 plus a constant, with
+  // w = m / h^2 + k and y' = (m / h^2 y + k X) / w: one isotropic quadratic per node.
+
+  /// w = m / h^2 + k of node v, N/m.
+  double node_weight(Eigen::Index v, double h2) const { return mass_(v) / h2 + spring_(v); }
+  /// y' of node v for its inertial target y.
+  Eigen::Vector3d node_target(Eigen::Index v, const Eigen::Vector3d& y, double h2) const {
+    if (spring_(v) == 0) return y;
+    return (mass_(v) / h2 * y + spring_(v) * X_.col(v)) / node_weight(v, h2);
+  }
 
   // --- Spheres (header comment) ---
 
@@ -424,6 +442,7 @@ class TetTimeStepper : public ElasticSolve {
   Eigen::Matrix3Xd f_ext_;   ///< the frame's external nodal force on the free components, N
   Eigen::Matrix3Xd free_;    ///< 1 where a component moves freely, 0 where a tool or the support holds it
   Eigen::VectorXd mass_;     ///< lumped nodal mass, kg
+  Eigen::VectorXd spring_;   ///< the body's springs' stiffness per node, N/m (0 where none)
 
  private:
   /// The frame's contact bookkeeping: each node's surface vertex (once), no node touching.
@@ -451,7 +470,8 @@ class TetTimeStepper : public ElasticSolve {
       const int k = static_cast<int>(i % static_cast<size_t>(S));
       Eigen::Vector3d r;
       if (!own_contact_force(v, k, r)) {
-        r = mass_(v) * (x_.col(v) - x_n_.col(v) - h * v_n_held_.col(v)) / (h * h) - f_ext_.col(v);
+        r = mass_(v) * (x_.col(v) - x_n_.col(v) - h * v_n_held_.col(v)) / (h * h) - f_ext_.col(v) +
+            spring_(v) * (x_.col(v) - X_.col(v));
         for (int j = around_contact_.offset[static_cast<size_t>(v)]; j < around_contact_.offset[static_cast<size_t>(v) + 1];
              ++j) {
           const auto [t, a] = around_contact_.around[static_cast<size_t>(j)];
@@ -483,6 +503,8 @@ class TetTimeStepper : public ElasticSolve {
   /// static equilibrium, what a settled state is measured by.
   double static_residual() const {
     Eigen::Matrix3Xd r = -f_ext_;
+    for (Eigen::Index v = 0; v < r.cols(); ++v)
+      if (spring_(v) != 0) r.col(v) += spring_(v) * (x_.col(v) - X_.col(v));  // the pads' k u (f_ext holds k d)
     try {
       for (Eigen::Index t = 0; t < T_.rows(); ++t) {
         const Eigen::Matrix3d P = law_.first_piola(deformation_gradient(t, x_));

@@ -79,6 +79,8 @@ class VbdSolve : public TetTimeStepper<Law> {
   }
 
  protected:
+  bool takes_springs() const override { return true; }
+
   void advance() override {
     const double h = s_.time_step, h2 = h * h;
     const Eigen::Index n = x_.cols();
@@ -132,8 +134,10 @@ class VbdSolve : public TetTimeStepper<Law> {
   /// the frame's end), from the start asked for.
   void start_at(Eigen::Index v, double h) {
     const double h2 = h * h;
-    const Eigen::Vector3d a_ext = this->f_ext_.col(v) / mass_(v);
-    y_.col(v) = x_n_.col(v) + h * v_.col(v) + h2 * a_ext;
+    // The target of the node's inertia and springs (node_target); a_ext the
+    // acceleration towards it, f / m where the node has no spring.
+    y_.col(v) = this->node_target(v, x_n_.col(v) + h * v_.col(v) + h2 * this->f_ext_.col(v) / mass_(v), h2);
+    const Eigen::Vector3d a_ext = (y_.col(v) - x_n_.col(v) - h * v_.col(v)) / h2;
     Eigen::Vector3d start = x_n_.col(v);
     if (o_.start == VbdStart::Inertial) {
       start = y_.col(v);
@@ -300,9 +304,10 @@ class VbdSolve : public TetTimeStepper<Law> {
   }
   void update_vertex_sse2(int p, double h2) { update_vertex_batched<pbd::batches::SseLanes>(p, h2); }
 
-  /// The inertial term of vertex v's Newton system: m / h^2 (x - y) and m / h^2 I.
+  /// The inertial term of vertex v's Newton system, its springs included
+  /// (node_weight): w (x - y') and w I.
   [[gnu::always_inline]] void inertia(int v, double h2, Eigen::Vector3d& gradient, Eigen::Matrix3d& H) const {
-    const double m = mass_(v) / h2;
+    const double m = this->node_weight(v, h2);
     gradient = m * (x_.col(v) - y_.col(v));
     H = m * Eigen::Matrix3d::Identity();
   }
@@ -316,7 +321,7 @@ class VbdSolve : public TetTimeStepper<Law> {
     if (o_.damping == 0) return;
     // Plain loops: GCC left the Eigen expression out of line in the AVX2 caller
     // (perf: 8 % of a frame in it), which made a damped frame 30-45 % dearer.
-    const double d = o_.damping / s_.time_step, m = mass_(v) / h2;
+    const double d = o_.damping / s_.time_step, m = this->node_weight(v, h2);
     double elastic[3][3], moved[3];
     for (int i = 0; i < 3; ++i) {
       moved[i] = from(i) - x_n_(i, v);

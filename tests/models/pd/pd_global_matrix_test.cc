@@ -32,7 +32,7 @@ TEST(PdGlobalMatrix, BlockedConstraintResponsesAreTheVectorSolves) {
     if (box.V(v, 2) < 1e-9) free.col(v).setZero();
     if (box.V(v, 0) < 1e-9) free(0, v) = 0;
   }
-  PdGlobalMatrix A(box.T, shapes, mass, free, 0.01, 3e4);
+  PdGlobalMatrix A(box.T, shapes, mass / (0.01 * 0.01), free, 3e4);
   ASSERT_EQ(A.factors(), 2);
 
   // Constraints on top nodes, one on the roller face (its x component held), and
