@@ -149,6 +149,47 @@ TEST_F(ToolScenarios, BadToolsLoadsAndProbesAreOneLineErrorsNamingFileAndKey) {
   EXPECT_NE(e.find("probes[2] (0.2, 0, 0.05) by 0.15"), std::string::npos) << e;
 }
 
+/// A compliant grasp (docs/scenario_schema.md, "pad_stiffness") runs end to end in
+/// the fem model, its jaw force in reactions.csv and run.json's tool; its bad keys
+/// are one line naming the file and the key, and a model without pads refuses it.
+TEST_F(ToolScenarios, ACompliantGraspRunsAndItsBadKeysAreOneLineErrors) {
+  nlohmann::json j = grasped_cube();
+  j["tools"][0] = {{"type", "compliant_grasp"}, {"point", {0, 0, 0.1}}, {"radius", 0.02}, {"pad_stiffness", 3e6},
+                   {"displacement", {0, 0, 0.004}}, {"ramp_frames", 2}};
+  j["models"] = {{{"name", "fem-direct"}, {"model", "fem"}}};
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.mesh_cache_dir = "";
+  const auto outcomes = run_experiment(load_experiment(write("pads.json", j)), o);
+  ASSERT_EQ(outcomes.size(), 1u);
+  ASSERT_TRUE(outcomes[0].ok) << outcomes[0].error;
+  const auto folder = dir / "out" / "small" / "small";
+  const std::string csv = read(folder / "fem-direct" / "reactions.csv");
+  const size_t row = csv.find("\n2,tools[0],compliant_grasp,");
+  ASSERT_NE(row, std::string::npos) << csv.substr(0, 300);
+  // The tissue pulls the lifted jaw down (fz, the row's last field).
+  std::string line = csv.substr(row + 1, csv.find('\n', row + 1) - row - 1);
+  EXPECT_LT(std::stod(line.substr(line.rfind(',') + 1)), 0) << line;
+  const nlohmann::json run = nlohmann::json::parse(read(folder / "fem-direct" / "run.json"));
+  EXPECT_EQ(run["scenario_resolved"]["tools"][0]["pad_stiffness"], 3e6);
+  EXPECT_EQ(run["scenario_resolved"]["tools"][0]["type"], "compliant_grasp");
+
+  j = grasped_cube();
+  j["tools"][0] = {{"type", "compliant_grasp"}, {"point", {0, 0, 0.1}}, {"radius", 0.02}, {"displacement", {0, 0, 0.004}}};
+  expect_error(j, "tools[0].pad_stiffness");
+  j["tools"][0]["pad_stiffness"] = -1;
+  expect_error(j, "tools[0].pad_stiffness: -1 is out of range");
+  // A model without pads: its case fails with the one line, before it runs.
+  j["tools"][0]["pad_stiffness"] = 3e6;
+  j["models"] = {{{"model", "pbd"}}};
+  const auto refused = run_experiment(load_experiment(write("pads-pbd.json", j)), o);
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_FALSE(refused[0].ok);
+  EXPECT_NE(refused[0].error.find("model 'pbd' does not take compliant_grasp tools (tools[0])"), std::string::npos)
+      << refused[0].error;
+}
+
 }  // namespace
 }  // namespace tb
 
