@@ -203,6 +203,51 @@ TEST(CompliantGrasp, VbdAndPdSettleToTheStaticNewtonAnswerUnderPads) {
   }
 }
 
+/// Every model that takes pads, the paper cube's top lifted through them beside a
+/// bonded plate pushing a side, under a point force and gravity: once settled the
+/// jaw's, the plate's and the support's forces sum to the applied loads (the
+/// springs' pull is internal to the tissue and jaw), and the jaw is pulled down.
+TEST(CompliantGrasp, TheJawsForceBalancesTheLoadsInEveryModelThatTakesIt) {
+  const HybridMesh& cube = testing::scenario_mesh("cube-pull");
+  const std::vector<Tool> tools = {Tool::compliant_grasp({-0.02, 0.01, 0.1}, 0.012, 1e6, "tools[0]"),
+                                   Tool::plate({{-1, 0.0499, 0.03}, {1, 1, 0.07}}, false, 2, "tools[1]")};
+  const std::vector<Load> loads = {Load::point_force({0.02, 0, 0.1}, "loads[0]"), Load::body_force("loads[1]")};
+  const FrameLoads frame{{{0, 0, 0.2}, {0, 0, -9.81}}, {{0, 0, 0.004}, {0, -0.002, 0}}};
+  const double mass = nodal_masses(cube.fine_volume, Material{}.density).weights.sum();
+  const Eigen::Vector3d applied = frame.values[0] + mass * frame.values[1];
+  int measured = 0;
+  for (const auto& [model, given] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"fem", {{"solver", "direct"}}},
+           {"fem", {{"solver", "iterative"}, {"cg_tolerance", 1e-12}}},
+           {"fem", {{"solver", "newton"}}},
+           {"fem_dynamic", {{"time_step", 0.5}}},
+           {"pd", {{"time_step", 0.5}}}}) {
+    const ModelInfo& info = find_model(model);
+    ASSERT_TRUE(info.takes(ToolKind::CompliantGrasp)) << model;
+    Problem p{&cube, Material{}, LoadCase{testing::kCubeBottom, loads, tools},
+              resolve_parameters(info.parameters, given, model), Points()};
+    auto m = info.create();
+    m->setup(p);
+    m->step(frame);
+    for (int k = 0; info.dynamic && k < 300; ++k) {
+      const std::vector<Eigen::Vector3d> before = *m->reaction_forces();
+      m->step(frame);
+      double change = 0, size = 0;
+      for (size_t t = 0; t < before.size(); ++t) {
+        change += (before[t] - (*m->reaction_forces())[t]).norm();
+        size += before[t].norm();
+      }
+      if (change <= 1e-12 * size) break;
+    }
+    const std::vector<Eigen::Vector3d>& r = *m->reaction_forces();
+    const Eigen::Vector3d sum = r[0] + r[1] + r[2];
+    EXPECT_LT((sum - applied).norm(), 1e-8 * (r[0].norm() + r[1].norm() + r[2].norm())) << model << " " << given;
+    EXPECT_LT(r[0].z(), 0) << model;
+    ++measured;
+  }
+  EXPECT_EQ(measured, 5);
+}
+
 /// Solvers and models that cannot hold pads say so in one line naming the tool.
 TEST(CompliantGrasp, SolversAndModelsWithoutSpringsRefuseIt) {
   const HybridMesh& cube = testing::scenario_mesh("cube-pull");
