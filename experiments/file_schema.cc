@@ -19,7 +19,7 @@ const std::map<std::string, std::vector<std::string>>& file_schema() {
       {"scenario.support", {"min", "max", "lowest_fraction"}},
       {"scenario.load", {"at", "point", "force", "ramp_frames", "disc_radius"}},
       {"scenario.loads[]", {"type", "point", "radius", "force", "g", "ramp_frames", "path"}},
-      {"scenario.tools[]", {"type", "point", "radius", "pad_stiffness", "box", "mode", "normal", "displacement", "ramp_frames", "path"}},
+      {"scenario.tools[]", {"type", "point", "radius", "pad_stiffness", "pad_profile", "box", "mode", "normal", "displacement", "ramp_frames", "path"}},
       {"scenario.tools[].box", {"min", "max"}},
       {"scenario.probes", {"points", "file", "truth_cube"}},
       {"scenario.probes.truth_cube", {"table", "compare_at_strain"}},

@@ -128,7 +128,9 @@ std::vector<ScenarioTool> parse_tools(StrictObject& scenario) {
       // modulus E_pad; a tissue-soft pad 1 mm thick on 3 kPa tissue, 3e6.
       const Eigen::Vector3d point = o.vec3("point", std::nullopt);
       const double radius = o.number("radius", std::nullopt, 1e-12, 1e9);
-      t.tool = Tool::compliant_grasp(point, radius, o.number("pad_stiffness", std::nullopt, 1e-12, 1e18), key);
+      const double kappa = o.number("pad_stiffness", std::nullopt, 1e-12, 1e18);
+      const bool smooth = o.text("pad_profile", "uniform", {"uniform", "smooth"}) == "smooth";
+      t.tool = Tool::compliant_grasp(point, radius, kappa, key, smooth);
     } else {
       StrictObject box = o.object("box");
       SupportBox b;
@@ -245,7 +247,10 @@ nlohmann::json to_json(const ScenarioTool& t) {
   if (t.tool.holds_a_disc()) {
     j["point"] = vec(t.tool.point);
     j["radius"] = t.tool.radius;
-    if (t.tool.kind == ToolKind::CompliantGrasp) j["pad_stiffness"] = t.tool.pad_stiffness;
+    if (t.tool.kind == ToolKind::CompliantGrasp) {
+      j["pad_stiffness"] = t.tool.pad_stiffness;
+      j["pad_profile"] = t.tool.smooth_pads ? "smooth" : "uniform";
+    }
   } else if (t.tool.kind == ToolKind::Sphere) {
     j["radius"] = t.tool.radius;
   } else {

@@ -69,10 +69,12 @@ Tool Tool::sphere(const Eigen::Vector3d& first_centre, double radius, std::strin
   return t;
 }
 
-Tool Tool::compliant_grasp(const Eigen::Vector3d& point, double radius, double pad_stiffness, std::string key) {
+Tool Tool::compliant_grasp(const Eigen::Vector3d& point, double radius, double pad_stiffness, std::string key,
+                           bool smooth_pads) {
   Tool t = grasp(point, radius, std::move(key));
   t.kind = ToolKind::CompliantGrasp;
   t.pad_stiffness = pad_stiffness;
+  t.smooth_pads = smooth_pads;
   return t;
 }
 

@@ -95,12 +95,17 @@ struct Tool {
   SupportBox box;                                   ///< Plate: vertices whose rest position is in the box
   int normal_axis = 2;                              ///< SlidingPlate: 0, 1, 2 for x, y, z
   double pad_stiffness = 0;  ///< CompliantGrasp: the pads' traction per unit of relative displacement, Pa/m
+  /// CompliantGrasp: the pads' stiffness across the disc: uniform (pad_stiffness
+  /// everywhere: the traction jumps to zero at the rim) or smooth (pad_stiffness
+  /// (1 - (r / radius)^2)^2 at distance r from the point: it falls to zero at the rim
+  /// with zero slope, so the traction is continuous there).
+  bool smooth_pads = false;
 
   static Tool grasp(const Eigen::Vector3d& point, double radius, std::string key = "tools[0]");
   static Tool plate(const SupportBox& box, bool sliding, int normal_axis = 2, std::string key = "tools[0]");
   static Tool sphere(const Eigen::Vector3d& first_centre, double radius, std::string key = "tools[0]");
   static Tool compliant_grasp(const Eigen::Vector3d& point, double radius, double pad_stiffness,
-                              std::string key = "tools[0]");
+                              std::string key = "tools[0]", bool smooth_pads = false);
   /// Grasp and CompliantGrasp: the tools that hold the vertices within a radius of a point.
   bool holds_a_disc() const { return kind == ToolKind::Grasp || kind == ToolKind::CompliantGrasp; }
 };

@@ -151,8 +151,15 @@ std::vector<NodeSpring> pad_springs(const Tool& tool, const std::vector<int>& ve
   for (int v : vertices) {
     if (v < 0 || static_cast<size_t>(v) >= surface_to_volume.size())
       fail(tool, "surface vertex " + std::to_string(v) + " has no node in the volume");
-    springs.push_back({surface_to_volume[static_cast<size_t>(v)], tool.pad_stiffness * area.area({v})});
+    double profile = 1;
+    if (tool.smooth_pads) {
+      const double r2 = (surface.V.row(v).transpose() - tool.point).squaredNorm() / (tool.radius * tool.radius);
+      profile = (1 - r2) * (1 - r2);
+      if (!(r2 < 1)) continue;  // on the rim: no hold
+    }
+    springs.push_back({surface_to_volume[static_cast<size_t>(v)], tool.pad_stiffness * profile * area.area({v})});
   }
+  if (springs.empty()) fail(tool, "its smooth pads hold no vertex strictly inside its radius");
   return springs;
 }
 

@@ -63,9 +63,11 @@ class ContactArea {
 /// The pads of a compliant grasp on a volume whose node surface_to_volume[v] is
 /// surface vertex v: per held vertex, its node and the spring stiffness
 /// pad_stiffness times its vertex area (ContactArea), N/m, in the order of
-/// `vertices`: the consistent discretisation on P1 triangles of the pad traction
-/// kappa (d - u) (exact for a uniform u). Throws std::invalid_argument naming the
-/// tool for another kind or a vertex with no node.
+/// `vertices`: the lumped discretisation on P1 triangles of the pad traction
+/// kappa (d - u) (exact for a uniform u); with smooth_pads, times
+/// (1 - (r / radius)^2)^2, a vertex on the rim left out. Throws
+/// std::invalid_argument naming the tool for another kind, a vertex with no node, or
+/// smooth pads that hold no vertex.
 std::vector<NodeSpring> pad_springs(const Tool& tool, const std::vector<int>& vertices, const SurfaceMesh& surface,
                                     const std::vector<int>& surface_to_volume);
 

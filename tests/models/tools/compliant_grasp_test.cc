@@ -248,6 +248,39 @@ TEST(CompliantGrasp, TheJawsForceBalancesTheLoadsInEveryModelThatTakesIt) {
   EXPECT_EQ(measured, 5);
 }
 
+/// Pads hold each vertex by kappa times its vertex area: uniform across the disc, or
+/// smooth, times (1 - (r / R)^2)^2, falling to zero at the rim (a vertex on it held
+/// by none). On the paper cube's flat top the smooth pads' summed stiffness is about
+/// a third of the uniform pads' (the profile's mean over a disc is 1 / 3).
+TEST(CompliantGrasp, SmoothPadsFallToZeroAtTheRim) {
+  const HybridMesh& cube = testing::scenario_mesh("cube-pull");
+  const Eigen::Vector3d point(0, 0, 0.1);
+  const double R = 0.02, kappa = 1e6;
+  const Tool uniform = Tool::compliant_grasp(point, R, kappa);
+  const Tool smooth = Tool::compliant_grasp(point, R, kappa, "tools[0]", true);
+  const std::vector<int> held = tool_vertices(uniform, cube.fine_surface, testing::kCubeBottom);
+  const std::vector<NodeSpring> flat = pad_springs(uniform, held, cube.fine_surface, cube.fine_surface_to_volume);
+  const std::vector<NodeSpring> tapered = pad_springs(smooth, held, cube.fine_surface, cube.fine_surface_to_volume);
+  ASSERT_EQ(flat.size(), held.size());
+  const ContactArea area(cube.fine_surface);
+  double flat_sum = 0, tapered_sum = 0;
+  size_t k = 0;
+  for (size_t i = 0; i < held.size(); ++i) {
+    const int v = held[i];
+    EXPECT_NEAR(flat[i].stiffness, kappa * area.area({v}), 1e-12 * flat[i].stiffness);
+    flat_sum += flat[i].stiffness;
+    const double r2 = (cube.fine_surface.V.row(v).transpose() - point).squaredNorm() / (R * R);
+    if (r2 >= 1) continue;  // on the rim: left out
+    ASSERT_LT(k, tapered.size());
+    EXPECT_EQ(tapered[k].node, flat[i].node);
+    EXPECT_NEAR(tapered[k].stiffness, flat[i].stiffness * (1 - r2) * (1 - r2), 1e-12 * flat[i].stiffness);
+    tapered_sum += tapered[k++].stiffness;
+  }
+  EXPECT_EQ(k, tapered.size());
+  RecordProperty("smooth_over_uniform", ::testing::PrintToString(tapered_sum / flat_sum));
+  EXPECT_NEAR(tapered_sum / flat_sum, 1.0 / 3, 0.1);
+}
+
 /// Solvers and models that cannot hold pads say so in one line naming the tool.
 TEST(CompliantGrasp, SolversAndModelsWithoutSpringsRefuseIt) {
   const HybridMesh& cube = testing::scenario_mesh("cube-pull");
