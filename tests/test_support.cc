@@ -13,6 +13,20 @@
 
 namespace tb::testing {
 
+void step_until_reactions_settle(Model& model, const FrameLoads& frame, int max_more) {
+  model.step(frame);
+  for (int k = 0; k < max_more; ++k) {
+    const std::vector<Eigen::Vector3d> before = *model.reaction_forces();
+    model.step(frame);
+    double change = 0, size = 0;
+    for (size_t t = 0; t < before.size(); ++t) {
+      change += (before[t] - (*model.reaction_forces())[t]).norm();
+      size += before[t].norm();
+    }
+    if (change <= 1e-12 * size) break;
+  }
+}
+
 std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& mesh, const SupportBox& support,
                                     const nlohmann::json& parameters, const std::vector<Load>& loads) {
   const ModelInfo& info = find_model(name);

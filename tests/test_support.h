@@ -39,6 +39,12 @@ std::unique_ptr<Model> set_up_model(const std::string& name, const HybridMesh& m
                                     const nlohmann::json& parameters = nlohmann::json::object(),
                                     const std::vector<Load>& loads = kCubePull.loads());
 
+/// Steps `model` under `frame` once, then up to `max_more` frames more until its
+/// reactions (every tool's and the support's) change by at most 1e-12 of their size
+/// in a frame: a dynamic model's reactions carry the inertia of what it holds until
+/// it settles (max_more 0 for a static model).
+void step_until_reactions_settle(Model& model, const FrameLoads& frame, int max_more);
+
 /// The elastic solve `given` asks for, e.g. {"solver": "corotational",
 /// "cg_tolerance": 1e-10} (the fem model's parameter names; unnamed ones default),
 /// on `body`, with `coarse_space` for the two-level preconditioner.

@@ -228,17 +228,7 @@ TEST(CompliantGrasp, TheJawsForceBalancesTheLoadsInEveryModelThatTakesIt) {
               resolve_parameters(info.parameters, given, model), Points()};
     auto m = info.create();
     m->setup(p);
-    m->step(frame);
-    for (int k = 0; info.dynamic && k < 300; ++k) {
-      const std::vector<Eigen::Vector3d> before = *m->reaction_forces();
-      m->step(frame);
-      double change = 0, size = 0;
-      for (size_t t = 0; t < before.size(); ++t) {
-        change += (before[t] - (*m->reaction_forces())[t]).norm();
-        size += before[t].norm();
-      }
-      if (change <= 1e-12 * size) break;
-    }
+    testing::step_until_reactions_settle(*m, frame, info.dynamic ? 300 : 0);
     const std::vector<Eigen::Vector3d>& r = *m->reaction_forces();
     const Eigen::Vector3d sum = r[0] + r[1] + r[2];
     EXPECT_LT((sum - applied).norm(), 1e-8 * (r[0].norm() + r[1].norm() + r[2].norm())) << model << " " << given;
