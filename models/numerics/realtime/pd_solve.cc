@@ -82,22 +82,25 @@ class PdSolve : public TetTimeStepper<Law> {
 
   void advance() override {
     const double h = s_.time_step, h2 = h * h;
-    const Eigen::Index n = x_.cols();
-    // The inertial target and the first iterate x_n + h v_n (held components at the frame's end).
-    for (Eigen::Index v = 0; v < n; ++v)
-      for (int i = 0; i < 3; ++i) {
-        const bool moves = free_(i, v) != 0;
-        y_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) + h2 * this->f_ext_(i, v) / mass_(v) : this->target_(i, v);
-        x_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) : this->target_(i, v);
+    // The inertial target and the first iterate x_n + h v_n (held components at the
+    // frame's end); with springs, the target of each node's inertia and springs
+    // (node_target), a held component's staying the tool's (a spring pulls free nodes only).
+    this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v) {
+        for (int i = 0; i < 3; ++i) {
+          const bool moves = free_(i, v) != 0;
+          y_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) + h2 * this->f_ext_(i, v) / mass_(v) : this->target_(i, v);
+          x_(i, v) = moves ? x_n_(i, v) + h * v_(i, v) : this->target_(i, v);
+        }
+        if (this->spring_(v) != 0) y_.col(v) = this->node_target(v, y_.col(v), h2);
       }
-    // With springs, the target of each node's inertia and springs (node_target); a
-    // held component's stays the tool's (a spring pulls free nodes only).
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (this->spring_(v) != 0) y_.col(v) = this->node_target(v, y_.col(v), h2);
+    });
     iterate(h2);
-    for (Eigen::Index v = 0; v < n; ++v)
-      for (int i = 0; i < 3; ++i)
-        if (free_(i, v) != 0) v_(i, v) = (x_(i, v) - x_n_(i, v)) / h;
+    this->for_node_ranges([&](Eigen::Index begin, Eigen::Index end, int) {
+      for (Eigen::Index v = begin; v < end; ++v)
+        for (int i = 0; i < 3; ++i)
+          if (free_(i, v) != 0) v_(i, v) = (x_(i, v) - x_n_(i, v)) / h;
+    });
   }
 
   nlohmann::json own_report() const override {
