@@ -7,8 +7,10 @@
 #include <tuple>
 
 #include "cube_generator.h"
+#include "hybrid_builder.h"
 #include "mesh_recipe.h"
 #include "scenario.h"
+#include "shapes.h"
 #include "tetgen_driver.h"
 
 namespace tb::testing {
@@ -52,6 +54,18 @@ const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume, 
     if (symmetric_fine_volume) r.symmetric_fine_volume = true;
     MeshReport report;
     m = std::make_unique<HybridMesh>(build_mesh(r, report));
+  }
+  return *m;
+}
+
+const HybridMesh& shape_mesh(const std::string& shape) {
+  static std::map<std::string, std::unique_ptr<HybridMesh>> cache;
+  auto& m = cache[shape];
+  if (!m) {
+    HybridBuildOptions o;
+    o.fine_tetgen.radius_edge_ratio = 1.414;
+    o.target_coarse_nodes = 120;
+    m = std::make_unique<HybridMesh>(build_hybrid_from_surface(make_shape_surface({shape, 12}), o, shape));
   }
   return *m;
 }

@@ -72,6 +72,11 @@ struct TempFolder {
 const HybridMesh& scenario_mesh(const std::string& name, bool with_fine_volume = true,
                                 bool symmetric_fine_volume = false);
 
+/// A generated shape of meshing/shapes.h ("torus", "l_block", ...) at refinement 12,
+/// meshed as the tests use it (TetGen radius-edge bound 1.414, about 120 coarse
+/// nodes), built once per process.
+const HybridMesh& shape_mesh(const std::string& shape);
+
 /// TetGen's mesh of the box [0, lx] x [0, ly] x [0, lz], its surface a structured
 /// nx x ny x nz grid (make_cube_surface), tets at most max_volume.
 TetMesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, double max_volume);

@@ -14,7 +14,6 @@
 #include "load_mapping.h"
 #include "model.h"
 #include "pbd_solver.h"
-#include "shapes.h"
 #include "test_support.h"
 #include "tool_placement.h"
 
@@ -356,17 +355,13 @@ TEST(Tools, GravityOnACantileverConvergesToEulerBernoulli) {
 /// model that takes a grasp: each runs, stays finite, and the grasped vertices sit
 /// where the grasp holds them.
 TEST(Tools, AGraspOnTheLiverATorusAndAnLBlockRunsInEveryModelThatTakesOne) {
-  HybridBuildOptions o;
-  o.fine_tetgen.radius_edge_ratio = 1.414;
-  o.target_coarse_nodes = 120;
   struct Body {
     std::string name;
     const HybridMesh* mesh;
   };
-  static const HybridMesh torus = build_hybrid_from_surface(make_shape_surface({"torus", 12}), o, "torus");
-  static const HybridMesh l_block = build_hybrid_from_surface(make_shape_surface({"l_block", 12}), o, "l_block");
-  const std::vector<Body> bodies = {{"liver", &testing::scenario_mesh("liver-pull")}, {"torus", &torus},
-                                    {"l_block", &l_block}};
+  const std::vector<Body> bodies = {{"liver", &testing::scenario_mesh("liver-pull")},
+                                    {"torus", &testing::shape_mesh("torus")},
+                                    {"l_block", &testing::shape_mesh("l_block")}};
   for (const Body& b : bodies) {
     const Points& V = b.mesh->fine_surface.V;
     const double zmin = V.col(2).minCoeff(), zmax = V.col(2).maxCoeff();
