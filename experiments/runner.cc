@@ -180,7 +180,7 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
   Problem problem{&mesh, s.material, s.load_case(), run.parameters, s.probes};
-  check_supported(info, problem.load_case);  // an unsupported load or tool stops here, before setup
+  check_supported(info, problem.parameters, problem.load_case);  // an unsupported load or tool stops here, before setup
   std::unique_ptr<Model> model = info.create();
 
   // The case's own peak memory: from here (the mesh already resident) to its last frame.

@@ -458,7 +458,8 @@ void apply_overrides(Document& doc, const nlohmann::json& overrides, const std::
 }
 
 /// An experiment with "unsupported_cases": "skip" runs each of its cases only on
-/// the scenarios whose loads and tools its model takes (a benchmark suite lists
+/// the scenarios whose loads and tools its model, with the case's parameters, takes
+/// (check_supported; a benchmark suite lists
 /// every model once); the others are recorded with the reason, for the analysis.
 /// The reference may not be left out.
 void leave_out_unsupported(Scenario& s, const std::string& reference, const std::string& where) {
@@ -466,7 +467,7 @@ void leave_out_unsupported(Scenario& s, const std::string& reference, const std:
   std::vector<ModelRun> kept;
   for (ModelRun& run : s.models) {
     try {
-      check_supported(find_model(run.model), load_case);
+      check_supported(find_model(run.model), run.parameters, load_case);
       kept.push_back(std::move(run));
     } catch (const std::invalid_argument& unsupported) {
       if (run.case_name == reference)

@@ -20,6 +20,13 @@ namespace tb {
 /// errors begin with `model_name`.
 std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolveFactory make_solve);
 
+/// Throws std::invalid_argument, "fem: tools[0] (sphere): the corotational solver has
+/// no contact; use solver direct, iterative or newton", when the elastic solve the
+/// resolved parameters choose (names with `prefix`) cannot hold a tool of
+/// `load_case` (ElasticSolveInfo::takes_spheres, takes_springs).
+void check_elastic_solve_takes_tools(const std::string& model_name, const Parameters& p, const std::string& prefix,
+                                     const LoadCase& load_case);
+
 /// What the fine-volume FEM takes and measures (ModelInfo's loads, tools,
 /// tools_how, reactions, probes), for the models built on it.
 void describe_fine_fem(ModelInfo& info);

@@ -113,6 +113,12 @@ struct ModelInfo {
   std::string reactions;
   /// How it gives interior probes' displacements; empty: it has no volume.
   std::string probes;
+  /// Refusals that depend on its parameters, not on the kinds above (a solver
+  /// without contact, a coarse volume without pads): throws std::invalid_argument
+  /// naming the tool and the parameter; null when the kinds say everything. Called
+  /// before setup (check_supported), so a suite lists such a case as not run, not
+  /// as failed; the model's setup makes the same check for a direct caller.
+  std::function<void(const Parameters& resolved, const LoadCase&)> check_case;
   bool takes(LoadKind kind) const;
   bool takes(ToolKind kind) const;
 };
@@ -130,5 +136,7 @@ void validate_registry(const std::vector<ModelInfo>& models);
 /// take a load or a tool of `load_case`: "model 'pbd' does not take
 /// surface_traction loads (loads[1]); it takes point_force, body_force".
 void check_supported(const ModelInfo& model, const LoadCase& load_case);
+/// The same, then the model's check_case for its resolved `parameters`.
+void check_supported(const ModelInfo& model, const Parameters& parameters, const LoadCase& load_case);
 
 }  // namespace tb

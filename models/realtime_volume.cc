@@ -7,23 +7,29 @@
 namespace tb {
 namespace {
 
+/// The coarse stepper holds the coarse nodes nearest a tool's surface vertices: it
+/// has no contact set and no pads on the embedded surface.
+void check_volume_takes_tools(const std::string& model_name, const Parameters& p, const LoadCase& load_case) {
+  if (p.choice("volume") != "coarse_embedded") return;
+  for (const Tool& tool : load_case.tools) {
+    if (tool.kind == ToolKind::Sphere)
+      throw std::invalid_argument(model_name + ": " + tool.key +
+                                  " (sphere): volume coarse_embedded has no contact (the coarse stepper has no "
+                                  "contact set on the embedded surface); use volume fine");
+    if (tool.kind == ToolKind::CompliantGrasp)
+      throw std::invalid_argument(model_name + ": " + tool.key +
+                                  " (compliant_grasp): volume coarse_embedded has no pads (the coarse mesh is "
+                                  "held at its own nodes); use volume fine");
+  }
+}
+
 class OnVolume : public Model {
  public:
   OnVolume(std::string name, ElasticSolveFactory make_solve) : name_(std::move(name)), make_solve_(std::move(make_solve)) {}
 
   void setup(const Problem& p) override {
     volume_ = p.parameters.choice("volume");
-    if (volume_ == "coarse_embedded")
-      for (const Tool& tool : p.load_case.tools) {
-        if (tool.kind == ToolKind::Sphere)
-          throw std::invalid_argument(name_ +
-                                      ": volume coarse_embedded takes no sphere (the coarse stepper has no contact "
-                                      "set on the embedded surface); use volume fine");
-        if (tool.kind == ToolKind::CompliantGrasp)
-          throw std::invalid_argument(name_ + ": " + tool.key +
-                                      " (compliant_grasp): volume coarse_embedded has no pads (the coarse mesh is "
-                                      "held at its own nodes); use volume fine");
-      }
+    check_volume_takes_tools(name_, p.parameters, p.load_case);
     inner_ =
         volume_ == "coarse_embedded" ? make_coarse_embedded(name_, make_solve_) : make_fine_fem(name_, make_solve_);
     inner_->setup(p);
@@ -79,6 +85,9 @@ void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const s
                 "its contact nodes (xpbd_neo: of its contact multipliers, lambda / h_sub^2)" +
                 (pads_how.empty() ? "" : "; a compliant grasp: sum k_i (x_i - X_i - d) over its pads");
   m.probes = "volume fine: " + m.probes + "; volume coarse_embedded: " + coarse.probes;
+  m.check_case = [model_name = m.name](const Parameters& p, const LoadCase& load_case) {
+    check_volume_takes_tools(model_name, p, load_case);
+  };
 }
 
 }  // namespace tb

@@ -28,7 +28,8 @@ std::unique_ptr<Model> make_on_volume(const std::string& model_name, ElasticSolv
 /// `reactions` say how the stepper holds a node and what it measures there (the
 /// same on either volume), `sphere_how` how it meets a sphere (fine volume only),
 /// `pads_how` how it holds a compliant grasp's pads (fine volume only; empty: the
-/// stepper takes none).
+/// stepper takes none). Its check_case refuses a sphere and pads on volume
+/// coarse_embedded; `info.name` must be set before.
 void describe_on_volume(ModelInfo& info, const std::string& fine_tools_how, const std::string& reactions,
                         const std::string& sphere_how, const std::string& pads_how = "");
 

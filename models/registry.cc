@@ -77,6 +77,11 @@ void check_supported(const ModelInfo& model, const LoadCase& load_case) {
     if (!model.takes(tool.kind)) refuse(model, tool.kind, tool.key, model.tools, "tools");
 }
 
+void check_supported(const ModelInfo& model, const Parameters& parameters, const LoadCase& load_case) {
+  check_supported(model, load_case);
+  if (model.check_case) model.check_case(parameters, load_case);
+}
+
 const ModelInfo& find_model(const std::string& name) {
   std::ostringstream known;
   for (const auto& m : registered_models()) {

@@ -12,12 +12,16 @@ ModelInfo fem_model_info() {
   m.parameters = elastic_solve_parameters("", "direct", "two_level");
   m.create = [] {
     return make_fine_fem("fem", [](const ElasticBody& body, const Problem& p) {
+      check_elastic_solve_takes_tools("fem", p.parameters, "", p.load_case);
       // The two-level preconditioner's coarse space is the scenario's coarse (hybrid) mesh.
       const TetMesh& coarse = p.mesh->coarse_volume;
       return make_elastic_solve(body, p.parameters, "", {coarse.T.rows() ? &coarse : nullptr});
     });
   };
   describe_fine_fem(m);
+  m.check_case = [](const Parameters& p, const LoadCase& load_case) {
+    check_elastic_solve_takes_tools("fem", p, "", load_case);
+  };
   return m;
 }
 

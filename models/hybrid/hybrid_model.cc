@@ -15,6 +15,14 @@
 namespace tb {
 namespace {
 
+/// The ablation exact_fine_fem condenses the fine stiffness on the control points
+/// under the loads alone: a tool's held vertices are not in that condensation.
+void check_control_points_take_tools(const Parameters& p, const LoadCase& load_case) {
+  if (p.choice("control_points") == "exact_fine_fem" && !load_case.tools.empty())
+    throw std::invalid_argument("hybrid: " + load_case.tools[0].key + " (" + name(load_case.tools[0].kind) +
+                                "): control_points exact_fine_fem takes no tools; use control_points coarse_fem");
+}
+
 class HybridModel : public Model {
  public:
   void setup(const Problem& p) override {
@@ -25,11 +33,10 @@ class HybridModel : public Model {
     // solves it each frame (parameter coarse_solver; direct: factorised here).
     // The ablation control_points = exact_fine_fem places the control points at
     // the fine FEM's solution instead (the fine stiffness condensed on them).
+    check_control_points_take_tools(p.parameters, p.load_case);
     exact_control_points_ = p.parameters.choice("control_points") == "exact_fine_fem";
     try {
       if (exact_control_points_) {
-        if (!p.load_case.tools.empty())
-          throw std::invalid_argument("control_points exact_fine_fem takes no tools (" + p.load_case.tools[0].key + ")");
         if (h.fine_volume.T.rows() == 0)
           throw std::invalid_argument("control_points exact_fine_fem needs the scenario's fine volume mesh");
         fine_body_ = std::make_unique<ElasticBody>(h.fine_volume, p.material,
@@ -61,8 +68,6 @@ class HybridModel : public Model {
     for (const Tool& tool : p.load_case.tools) {
       if (tool.kind == ToolKind::SlidingPlate)
         throw std::invalid_argument("hybrid: " + tool.key + ": a sliding plate is not realised on the PBD surface");
-      if (tool.kind == ToolKind::Sphere && exact_)
-        throw std::invalid_argument("hybrid: " + tool.key + ": a sphere needs control_points coarse_fem");
       tool_vertices_.push_back(tool_vertices(tool, h.fine_surface, p.load_case.support));  // none for a sphere
       for (int v : tool_vertices_.back()) held[static_cast<size_t>(v)] = 1;
     }
@@ -242,6 +247,7 @@ ModelInfo hybrid_model_info() {
   m.loads = {LoadKind::PointForce, LoadKind::SurfaceTraction, LoadKind::BodyForce};
   describe_coarse_fem(m);
   m.tools = {ToolKind::Grasp, ToolKind::BondedPlate, ToolKind::Sphere};
+  m.check_case = check_control_points_take_tools;
   m.tools_how = "a sphere: a collision constraint on the PBD surface only, as in pbd (the coarse FEM does not feel "
                 "it; control points are not moved by it). Other tools: the coarse FEM holds the coarse nodes nearest the tool's surface vertices (Dirichlet values); PBD "
                 "pins the surface vertices themselves at rest plus the tool's displacement (eq. 33), a control point "

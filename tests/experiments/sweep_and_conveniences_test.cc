@@ -187,6 +187,42 @@ TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
   EXPECT_EQ(e.scenarios[1].models.size(), 1u);
 }
 
+// A refusal that depends on a case's parameters (the corotational solver has no
+// contact; a real-time stepper on the coarse volume has none either) is made before
+// setup too: the suite lists the case as not run, with the model's reason, not as a
+// failed case; the same models with other parameters run.
+TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
+  nlohmann::json palpated = small_cube();
+  palpated["name"] = "palpated";
+  palpated.erase("load");
+  palpated["tools"] = nlohmann::json::parse(R"([{"type": "sphere", "radius": 0.01, "path": [[0, 0, 0, 0.11]]}])");
+  palpated["models"] = {{{"name", "fem-direct"}, {"model", "fem"}}};
+  write("palpated.json", palpated);
+  const nlohmann::json experiment = {
+      {"name", "suite"},
+      {"reference", "fem-direct"},
+      {"unsupported_cases", "skip"},
+      {"scenarios", {"palpated.json"}},
+      {"models",
+       {{{"name", "fem-corotational"}, {"model", "fem"}, {"parameters", {{"solver", "corotational"}}}},
+        {{"name", "fem-newton"}, {"model", "fem"}, {"parameters", {{"solver", "newton"}}}},
+        {{"name", "vbd-embedded"}, {"model", "vbd"}, {"parameters", {{"volume", "coarse_embedded"}}}},
+        {{"name", "vbd"}, {"model", "vbd"}}}}};
+  const Experiment e = load_experiment(write("suite.json", experiment));
+  ASSERT_EQ(e.scenarios.size(), 1u);
+  std::vector<std::string> kept;
+  for (const ModelRun& run : e.scenarios[0].models) kept.push_back(run.case_name);
+  EXPECT_EQ(kept, (std::vector<std::string>{"fem-newton", "vbd", "fem-direct"}));  // the experiment's, then the scenario's
+  ASSERT_EQ(e.scenarios[0].not_run.size(), 2u);
+  EXPECT_EQ(e.scenarios[0].not_run[0].first, "fem-corotational");
+  EXPECT_EQ(e.scenarios[0].not_run[0].second,
+            "fem: tools[0] (sphere): the corotational solver has no contact; use solver direct, iterative or newton");
+  EXPECT_EQ(e.scenarios[0].not_run[1].first, "vbd-embedded");
+  EXPECT_EQ(e.scenarios[0].not_run[1].second.rfind("vbd: tools[0] (sphere): volume coarse_embedded has no contact", 0),
+            0u)
+      << e.scenarios[0].not_run[1].second;
+}
+
 // tissuebench run --skip-scenario NAME: that scenario left out, the others kept in
 // order; a name the experiment does not have, or leaving none, is a one-line error.
 TEST_F(Scenarios, SkippedScenariosAreLeftOutAndAnUnknownNameIsAnError) {

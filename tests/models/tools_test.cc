@@ -225,7 +225,8 @@ TEST(Tools, BadReactionGroupsAndACorotationalSphereAreOneLineErrors) {
     m->setup(p);
     FAIL() << "the corotational FEM took a sphere";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "fem: a sphere needs a linear elastic solve (direct or iterative), not a nonlinear one");
+    EXPECT_EQ(std::string(e.what()),
+              "fem: tools[0] (sphere): the corotational solver has no contact; use solver direct, iterative or newton");
   }
 }
 

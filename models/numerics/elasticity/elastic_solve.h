@@ -107,6 +107,13 @@ struct ElasticSolveInfo {
   std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Parameters&, const std::string& prefix,
                                               const ElasticSolveContext&)>
       create;
+  /// What its instances answer, known before a body exists so that a model can
+  /// refuse a tool before setup (ModelInfo::check_case): whether a sphere can act
+  /// on it (linear() || takes_spheres()) and whether it solves a compliant grasp's
+  /// springs (takes_springs()). tests/fem/elastic_solve_tools_test.cc checks both
+  /// against an instance of every strategy.
+  bool takes_spheres = false;
+  bool takes_springs = false;
 };
 
 /// Every strategy, in one explicit list (elastic_solve.cc).

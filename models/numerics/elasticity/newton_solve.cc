@@ -959,7 +959,7 @@ ElasticSolveInfo newton_solve_info() {
                                       ": a budgeted frame takes the whole load at once, so " + prefix +
                                       "newton_load_steps must be 1, not " + std::to_string(o.load_steps));
         return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
-      }};
+      }, /*takes_spheres=*/true, /*takes_springs=*/true};
 }
 
 std::unique_ptr<ElasticSolve> make_implicit_euler_solve(const ElasticBody& body, const std::string& law,
