@@ -196,23 +196,23 @@ std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolve
 void check_elastic_solve_takes_tools(const std::string& model_name, const Parameters& p, const std::string& prefix,
                                      const LoadCase& load_case) {
   const std::string& solver = p.choice(prefix + "solver");
-  const auto takes = [](const ElasticSolveInfo& s, ToolKind kind) {
-    return kind == ToolKind::Sphere ? s.takes_spheres : kind != ToolKind::CompliantGrasp || s.takes_springs;
+  const auto refusal = [&](const ElasticSolveInfo& s, ToolKind kind) {
+    if (kind == ToolKind::Sphere) return s.refuses_spheres(p, prefix);
+    return kind == ToolKind::CompliantGrasp ? s.refuses_springs(p, prefix) : std::string();
   };
   for (const ElasticSolveInfo& chosen : elastic_solves()) {
     if (chosen.name != solver) continue;
     for (const Tool& tool : load_case.tools) {
-      if (takes(chosen, tool.kind)) continue;
-      std::vector<std::string> others;
+      const std::string why = refusal(chosen, tool.kind);
+      if (why.empty()) continue;
+      std::vector<std::string> others;  // with the same parameters
       for (const ElasticSolveInfo& s : elastic_solves())
-        if (takes(s, tool.kind)) others.push_back(s.name);
+        if (refusal(s, tool.kind).empty()) others.push_back(s.name);
       std::string use;
       for (size_t i = 0; i < others.size(); ++i)
         use += (i == 0 ? "" : i + 1 == others.size() ? " or " : ", ") + others[i];
       throw std::invalid_argument(model_name + ": " + tool.key + " (" + name(tool.kind) + "): the " + solver +
-                                  " solver has " +
-                                  (tool.kind == ToolKind::Sphere ? "no contact" : "no springs for its pads") +
-                                  "; use " + prefix + "solver " + use);
+                                  " solver " + why + "; use " + prefix + "solver " + use);
     }
   }
 }

@@ -23,7 +23,7 @@ std::unique_ptr<Model> make_fine_fem(const std::string& model_name, ElasticSolve
 /// Throws std::invalid_argument, "fem: tools[0] (sphere): the corotational solver has
 /// no contact; use solver direct, iterative or newton", when the elastic solve the
 /// resolved parameters choose (names with `prefix`) cannot hold a tool of
-/// `load_case` (ElasticSolveInfo::takes_spheres, takes_springs).
+/// `load_case` (ElasticSolveInfo::refuses_spheres, refuses_springs).
 void check_elastic_solve_takes_tools(const std::string& model_name, const Parameters& p, const std::string& prefix,
                                      const LoadCase& load_case);
 

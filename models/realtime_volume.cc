@@ -74,7 +74,7 @@ void describe_on_volume(ModelInfo& m, const std::string& fine_tools_how, const s
   ModelInfo coarse;
   describe_coarse_fem(coarse);
   m.tools = coarse.tools;
-  m.tools.push_back(ToolKind::Sphere);  // on the fine volume only (setup refuses it on the coarse one)
+  m.tools.push_back(ToolKind::Sphere);  // on the fine volume only (check_case refuses it on the coarse one)
   if (!pads_how.empty()) m.tools.push_back(ToolKind::CompliantGrasp);  // the same
   m.tools_how = "volume fine: the fine-volume nodes of the held surface vertices: " + fine_tools_how +
                 "; a sphere: " + sphere_how + (pads_how.empty() ? "" : "; a compliant grasp: " + pads_how) +

@@ -190,7 +190,8 @@ TEST_F(Scenarios, AModelNoCaseRunsIsAddedToEveryScenarioThatTakesIt) {
 // A refusal that depends on a case's parameters (the corotational solver has no
 // contact; a real-time stepper on the coarse volume has none either) is made before
 // setup too: the suite lists the case as not run, with the model's reason, not as a
-// failed case; the same models with other parameters run.
+// failed case; the same models with other parameters run. (A budgeted Newton frame
+// has no contact set; the hybrid's exact_fine_fem ablation takes no tools.)
 TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
   nlohmann::json palpated = small_cube();
   palpated["name"] = "palpated";
@@ -206,21 +207,32 @@ TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
       {"models",
        {{{"name", "fem-corotational"}, {"model", "fem"}, {"parameters", {{"solver", "corotational"}}}},
         {{"name", "fem-newton"}, {"model", "fem"}, {"parameters", {{"solver", "newton"}}}},
+        {{"name", "fem-newton-1"},
+         {"model", "fem"},
+         {"parameters", {{"solver", "newton"}, {"newton_max_iterations_per_frame", 1}}}},
         {{"name", "vbd-embedded"}, {"model", "vbd"}, {"parameters", {{"volume", "coarse_embedded"}}}},
-        {{"name", "vbd"}, {"model", "vbd"}}}}};
+        {{"name", "vbd"}, {"model", "vbd"}},
+        {{"name", "hybrid-exact"}, {"model", "hybrid"}, {"parameters", {{"control_points", "exact_fine_fem"}}}}}}};
   const Experiment e = load_experiment(write("suite.json", experiment));
   ASSERT_EQ(e.scenarios.size(), 1u);
   std::vector<std::string> kept;
   for (const ModelRun& run : e.scenarios[0].models) kept.push_back(run.case_name);
   EXPECT_EQ(kept, (std::vector<std::string>{"fem-newton", "vbd", "fem-direct"}));  // the experiment's, then the scenario's
-  ASSERT_EQ(e.scenarios[0].not_run.size(), 2u);
+  ASSERT_EQ(e.scenarios[0].not_run.size(), 4u);
   EXPECT_EQ(e.scenarios[0].not_run[0].first, "fem-corotational");
   EXPECT_EQ(e.scenarios[0].not_run[0].second,
             "fem: tools[0] (sphere): the corotational solver has no contact; use solver direct, iterative or newton");
-  EXPECT_EQ(e.scenarios[0].not_run[1].first, "vbd-embedded");
-  EXPECT_EQ(e.scenarios[0].not_run[1].second.rfind("vbd: tools[0] (sphere): volume coarse_embedded has no contact", 0),
+  EXPECT_EQ(e.scenarios[0].not_run[1].first, "fem-newton-1");
+  EXPECT_EQ(e.scenarios[0].not_run[1].second,
+            "fem: tools[0] (sphere): the newton solver has no contact set in a budgeted frame "
+            "(newton_max_iterations_per_frame 1; 0, to convergence, has); use solver direct or iterative");
+  EXPECT_EQ(e.scenarios[0].not_run[2].first, "vbd-embedded");
+  EXPECT_EQ(e.scenarios[0].not_run[2].second.rfind("vbd: tools[0] (sphere): volume coarse_embedded has no contact", 0),
             0u)
-      << e.scenarios[0].not_run[1].second;
+      << e.scenarios[0].not_run[2].second;
+  EXPECT_EQ(e.scenarios[0].not_run[3].first, "hybrid-exact");
+  EXPECT_EQ(e.scenarios[0].not_run[3].second,
+            "hybrid: tools[0] (sphere): control_points exact_fine_fem takes no tools; use control_points coarse_fem");
 }
 
 // tissuebench run --skip-scenario NAME: that scenario left out, the others kept in

@@ -204,7 +204,9 @@ ElasticSolveInfo corotational_solve_info() {
             o.max_updates = p.integer(prefix + "corotational_max_updates");
             o.relaxation = p.number(prefix + "corotational_relaxation");
             return std::unique_ptr<ElasticSolve>(new CorotationalSolve(b, o));
-          }, /*takes_spheres=*/false, /*takes_springs=*/false};
+          },
+          [](const Parameters&, const std::string&) { return std::string("has no contact"); },
+          [](const Parameters&, const std::string&) { return std::string("has no springs for its pads"); }};
 }
 
 }  // namespace tb

@@ -48,7 +48,7 @@ ElasticSolveInfo direct_solve_info() {
           [](const std::string&) { return std::vector<ParameterSpec>{}; },
           [](const ElasticBody& b, const Parameters&, const std::string&, const ElasticSolveContext&) {
             return std::unique_ptr<ElasticSolve>(new DirectSolve(b));
-          }, /*takes_spheres=*/true, /*takes_springs=*/true};
+          }, takes_the_tool, takes_the_tool};
 }
 
 std::unique_ptr<ElasticSolve> make_direct_solve(const ElasticBody& body) { return std::make_unique<DirectSolve>(body); }

@@ -107,14 +107,18 @@ struct ElasticSolveInfo {
   std::function<std::unique_ptr<ElasticSolve>(const ElasticBody&, const Parameters&, const std::string& prefix,
                                               const ElasticSolveContext&)>
       create;
-  /// What its instances answer, known before a body exists so that a model can
-  /// refuse a tool before setup (ModelInfo::check_case): whether a sphere can act
-  /// on it (linear() || takes_spheres()) and whether it solves a compliant grasp's
-  /// springs (takes_springs()). tests/fem/elastic_solve_tools_test.cc checks both
-  /// against an instance of every strategy.
-  bool takes_spheres = false;
-  bool takes_springs = false;
+  /// What its instances made from the resolved parameters `p` (names with `prefix`)
+  /// answer, known before a body exists so that a model can refuse a tool before
+  /// setup (ModelInfo::check_case): "" when a sphere can act on them (linear() ||
+  /// takes_spheres()), else why not ("has no contact"); the same for a compliant
+  /// grasp's springs (takes_springs()). Checked against instances of every strategy
+  /// in tests/models/numerics/elasticity/elastic_solve_tools_test.cc.
+  std::function<std::string(const Parameters& p, const std::string& prefix)> refuses_spheres, refuses_springs;
 };
+
+/// For ElasticSolveInfo::refuses_spheres and refuses_springs: a strategy that takes
+/// the tool with any parameters ("").
+inline std::string takes_the_tool(const Parameters&, const std::string&) { return ""; }
 
 /// Every strategy, in one explicit list (elastic_solve.cc).
 const std::vector<ElasticSolveInfo>& elastic_solves();

@@ -93,7 +93,7 @@ ElasticSolveInfo iterative_solve_info() {
                                           prefix + "preconditioner ic");
             return std::unique_ptr<ElasticSolve>(
                 new IterativeSolve(b, preconditioner, p.number(prefix + "cg_tolerance"), c.coarse_space));
-          }, /*takes_spheres=*/true, /*takes_springs=*/true};
+          }, takes_the_tool, takes_the_tool};
 }
 
 }  // namespace tb

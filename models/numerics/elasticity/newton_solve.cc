@@ -126,19 +126,13 @@ class NewtonSolve : public ElasticSolve {
   }
 
   bool linear() const override { return false; }
-  bool takes_spheres() const override { return true; }
+  bool takes_spheres() const override { return o_.max_iterations_per_frame == 0; }  // a budget has no contact set
   bool takes_springs() const override { return true; }
   const Eigen::VectorXd* internal_force() const override { return &f_int_solution_; }
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
     if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
-    if (o_.max_iterations_per_frame > 0) {
-      if (spheres_ && spheres_->spheres() > 0)
-        throw std::invalid_argument(
-            "newton_max_iterations_per_frame: a budgeted frame has no contact set; a sphere needs the Newton solve "
-            "to convergence (budget 0)");
-      return budgeted(f_free, u);
-    }
+    if (o_.max_iterations_per_frame > 0) return budgeted(f_free, u);  // takes no sphere
     // The target: this frame's forces and the prescribed values the caller set in u;
     // the start: the last converged state.
     const Eigen::VectorXd u_target = u, u_start = u_converged_;
@@ -959,7 +953,14 @@ ElasticSolveInfo newton_solve_info() {
                                       ": a budgeted frame takes the whole load at once, so " + prefix +
                                       "newton_load_steps must be 1, not " + std::to_string(o.load_steps));
         return std::unique_ptr<ElasticSolve>(new NewtonSolve(b, o));
-      }, /*takes_spheres=*/true, /*takes_springs=*/true};
+      },
+      [](const Parameters& p, const std::string& prefix) {
+        const int budget = p.integer(prefix + "newton_max_iterations_per_frame");
+        return budget == 0 ? std::string()
+                           : "has no contact set in a budgeted frame (" + prefix + "newton_max_iterations_per_frame " +
+                                 std::to_string(budget) + "; 0, to convergence, has)";
+      },
+      takes_the_tool};
 }
 
 std::unique_ptr<ElasticSolve> make_implicit_euler_solve(const ElasticBody& body, const std::string& law,
