@@ -36,6 +36,12 @@ class MachineNote(unittest.TestCase):
         note = table_io.machine_note({"busy": busy, "quiet": quiet, "old": old})
         self.assertTrue(note.endswith("its times inflated by the other work): busy (load 4.6)."), note)
 
+    def test_a_two_thread_case_alone_on_two_hardware_threads_is_not_busy(self):
+        alone, crowded = case("abc"), case("abc")
+        alone["timings"] = {"load_average_1min": {"at_setup": 1.0, "at_last_frame": 2.0098}}
+        crowded["timings"] = {"load_average_1min": {"at_setup": 2.0, "at_last_frame": 2.6}}
+        self.assertEqual(table_io.busy_cases({"alone": alone, "crowded": crowded}), {"crowded": 2.6})
+
     def test_a_group_all_of_whose_cases_were_busy_is_named_once(self):
         cases = {}
         for name, load in [("a/x", 3.5), ("a/y", 7.25), ("b/x", 5.0), ("b/y", 0.5)]:
