@@ -538,6 +538,16 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
     write_file_atomically((fs::path(opt.out_dir) / e.name / "experiment.json").string(), e.to_json().dump(2) + "\n");
   }
   if (opt.index_only) return outcomes;
+  // A case this build leaves out before setup (not_run) keeps nothing of an earlier
+  // run beside it: its old results or failure would contradict the index just written.
+  if (opt.process == 0)
+    for (const Scenario& s : e.scenarios)
+      for (const auto& not_run : s.not_run) {
+        const fs::path scenario_dir = fs::path(opt.out_dir) / e.name / s.name;
+        std::error_code ec;
+        fs::remove(scenario_dir / (not_run.first + ".failed.json"), ec);
+        fs::remove_all(scenario_dir / not_run.first, ec);
+      }
   const std::vector<std::vector<CaseAssignment>> plan = assign_cases(e, opt);
 
   // Builds (or finds) the scenario's mesh and places its tools and probes. With

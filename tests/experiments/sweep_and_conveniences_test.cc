@@ -4,6 +4,8 @@
 // its range.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "atomic_file.h"
 #include "scenario_fixture.h"
 
@@ -233,6 +235,24 @@ TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
   EXPECT_EQ(e.scenarios[0].not_run[3].first, "hybrid-exact");
   EXPECT_EQ(e.scenarios[0].not_run[3].second,
             "hybrid: tools[0] (sphere): control_points exact_fine_fem takes no tools; use control_points coarse_fem");
+
+  // What an earlier run left of a case now not run (its results, its failure) goes;
+  // a case that runs keeps its folder.
+  const fs::path scenario_dir = dir / "out" / "suite" / "palpated";
+  fs::create_directories(scenario_dir / "fem-corotational");
+  fs::create_directories(scenario_dir / "vbd-embedded");
+  fs::create_directories(scenario_dir / "fem-direct");
+  for (const char* stale : {"fem-corotational/run.json", "fem-corotational.failed.json", "vbd-embedded.failed.json"})
+    std::ofstream(scenario_dir / stale) << "{}";
+  RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.only_case = "fem-direct";
+  for (const CaseOutcome& c : run_experiment(e, o)) EXPECT_TRUE(c.ok) << c.case_name << ": " << c.error;
+  EXPECT_FALSE(fs::exists(scenario_dir / "fem-corotational"));
+  EXPECT_FALSE(fs::exists(scenario_dir / "fem-corotational.failed.json"));
+  EXPECT_FALSE(fs::exists(scenario_dir / "vbd-embedded.failed.json"));
+  EXPECT_TRUE(fs::exists(scenario_dir / "fem-direct" / "run.json"));
 }
 
 // tissuebench run --skip-scenario NAME: that scenario left out, the others kept in

@@ -53,6 +53,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -182,11 +184,15 @@ class NewtonSolve : public ElasticSolve {
           }
           if (!rescued) {
             active_ = active_converged;  // a caller that goes on starts from the last converged set
+            const std::string why = why_failed_;
+            assemble(state, false);  // the last converged state's smallest det F, for the message
             std::ostringstream msg;
             msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
                 << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
-                << "; the load may exceed what the mesh and law allow";
+                << " (the last attempt: " << why << "; smallest det F at load fraction "
+                << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_
+                << "); the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());
           }
           state = trial;
@@ -199,6 +205,7 @@ class NewtonSolve : public ElasticSolve {
     // the step's start (u_n, v_n), before they move on to this step's.
     assemble(state, false);
     f_int_solution_ = f_int_;
+    smallest_det_f_solution_ = smallest_det_f_;
     if (o_.time_step > 0) velocity_ = (state - u_converged_) / o_.time_step;
     u = state;
     u_converged_ = state;
@@ -213,7 +220,8 @@ class NewtonSolve : public ElasticSolve {
                         {"newton_tolerance", o_.tolerance},
                         {"load_increments_last_solve", increments_},
                         {"increment_halvings_last_solve", halvings_},
-                        {"newton_iterations_last_solve", iterations_}};
+                        {"newton_iterations_last_solve", iterations_},
+                        {"smallest_det_f_last_solve", smallest_det_f_solution_}};
     if (spheres_) {
       r["pseudo_transient_continuations_last_solve"] = rescues_;
       r["pseudo_transient_continuations"] = rescues_total_;
@@ -347,6 +355,7 @@ class NewtonSolve : public ElasticSolve {
     u = state;
     u_converged_ = state;
     f_int_solution_ = f_int_;
+    smallest_det_f_solution_ = smallest_det_f_;
     f_converged_ = f;
   }
 
@@ -398,13 +407,16 @@ class NewtonSolve : public ElasticSolve {
     const TetMesh& m = body_.mesh();
     f_int_.setZero(body_.dofs());
     inverted_tets_ = 0;
+    smallest_det_f_ = std::numeric_limits<double>::infinity();
     if (tangent) std::fill(K_full_.valuePtr(), K_full_.valuePtr() + K_full_.nonZeros(), 0.0);
     for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
       const TetShape& s = shapes_[static_cast<size_t>(t)];
       Eigen::Matrix<double, 3, 4> x;
       for (int a = 0; a < 4; ++a) x.col(a) = m.V.row(m.T(t, a)).transpose() + u.segment<3>(3 * m.T(t, a));
       const Eigen::Matrix3d F = tet_deformation_gradient(s, x);
-      if (!(F.determinant() > 0)) {
+      const double J = F.determinant();
+      smallest_det_f_ = std::min(smallest_det_f_, J);
+      if (!(J > 0)) {
         if (!law_.defined_when_inverted) return false;
         ++inverted_tets_;
       }
@@ -443,7 +455,7 @@ class NewtonSolve : public ElasticSolve {
   /// with u the equilibrium when converged. With spheres (contact_), the KKT
   /// conditions at centres_now_ with the active set active_ (header comment).
   bool newton(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
-    if (!assemble(u, true)) return false;
+    if (!assemble(u, true)) return failed("the increment's predicted start inverts a tet");
     Eigen::VectorXd r, du_free, du_full, u_try;
     residual(f, r);
     // The scale of the forces in play: the external ones, or (under prescribed
@@ -474,11 +486,12 @@ class NewtonSolve : public ElasticSolve {
         // (a step would be round-off the line search cannot decrease).
         if (update_active_set(u)) {
           merit = contact_terms(u, r);
-          if (it == max_iterations || cycles()) return false;
+          if (it == max_iterations) return failed("no convergence in the iterations allowed");
+          if (cycles()) return failed("the contact's active set cycles");
           continue;
         }
       }
-      if (it == max_iterations) return false;
+      if (it == max_iterations) return failed("no convergence in the iterations allowed");
       ++iterations_;
       // The contact's curvature: in the tangent itself where pseudo-time's shift must
       // make the whole of it definite; otherwise a low-rank downdate of the law's
@@ -489,18 +502,19 @@ class NewtonSolve : public ElasticSolve {
       indefinite_ = false;
       curvature_.clear();
       if (pseudo_transient) {
-        if (!factorize_shifted_tangent()) return false;
+        if (!factorize_shifted_tangent()) return failed("the pseudo-time-shifted tangent is not positive definite");
       } else if (!factorize_tangent()) {
         // The law's tangent itself is not positive definite (an element compressed
         // past its stability): with contact, the tangent and curvature by LDL^T, no
         // pivoting, which keeps Newton's quadratic rate.
-        if (!contact_ || active_.empty()) return false;
+        if (!contact_ || active_.empty())
+          return failed("the tangent is not positive definite (an element compressed or sheared past its stability)");
         add_contact_curvature(u);
         copy_free_tangent();
         if (!ldlt_analysed_) ldlt_.analyzePattern(K_free_);
         ldlt_analysed_ = true;
         ldlt_.factorize(K_free_);
-        if (ldlt_.info() != Eigen::Success) return false;
+        if (ldlt_.info() != Eigen::Success) return failed("the indefinite tangent's LDL^T failed");
         indefinite_ = true;
         ++indefinite_factorisations_;
       } else if (contact_) {
@@ -523,10 +537,10 @@ class NewtonSolve : public ElasticSolve {
         for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = lambda_new_(static_cast<Eigen::Index>(a));
         if (contact_settled(u)) return true;
         const bool changed = update_active_set(u);
-        if (!assemble(u, true)) return false;
+        if (!assemble(u, true)) return failed("a converged step inverts a tet");
         residual(f, r);
         merit = contact_terms(u, r);
-        if (changed && cycles()) return false;
+        if (changed && cycles()) return failed("the contact's active set cycles");
         continue;
       }
       // Backtracking: the largest step 2^-k (k < 8) that keeps the law defined and
@@ -534,11 +548,12 @@ class NewtonSolve : public ElasticSolve {
       // moved with the step). Pseudo-transient continuation takes its damped step
       // whole where the law stays defined (Kelley and Keyes 1998 use no line search):
       // crossing a snap, the merit must rise before it falls.
-      bool accepted = false;
+      bool accepted = false, every_step_inverts = true;
       double step = 1;
       for (; step > 1.0 / 256 && !accepted; step /= 2) {
         u_try = u + step * du_full;
         if (!assemble(u_try, true)) continue;
+        every_step_inverts = false;
         residual(f, r);
         if (contact_) {
           for (size_t a = 0; a < active_.size(); ++a)
@@ -553,16 +568,25 @@ class NewtonSolve : public ElasticSolve {
         }
         if (accepted) break;
       }
-      if (!accepted) return false;
+      if (!accepted)
+        return failed(every_step_inverts ? "every step of the line search inverts a tet"
+                                         : "the line search finds no step that lowers the residual");
       u = u_try;
       if (contact_) {
         for (size_t a = 0; a < active_.size(); ++a) active_[a].lambda = trial_lambda_[a];
         if (update_active_set(u)) {
           merit = contact_terms(u, r);  // the set changed: its merit anew
-          if (cycles()) return false;
+          if (cycles()) return failed("the contact's active set cycles");
         }
       }
     }
+  }
+
+  /// Records why the last Newton attempt failed (the solve's error names the last
+  /// one) and returns false.
+  bool failed(const char* why) {
+    why_failed_ = why;
+    return false;
   }
 
   // --- Pseudo-transient continuation (Kelley and Keyes 1998) ---
@@ -897,6 +921,9 @@ class NewtonSolve : public ElasticSolve {
   std::string stopped_;
   long frames_not_converged_ = 0, frames_stopped_early_ = 0;
   int inverted_tets_ = 0;  ///< tets with det F <= 0 at the last state assembled (laws defined there)
+  double smallest_det_f_ = 1;           ///< the smallest det F at the last state assembled
+  double smallest_det_f_solution_ = 1;  ///< ... at the last solve's answer (reported)
+  std::string why_failed_;              ///< why the last Newton attempt failed (failed())
   Eigen::VectorXd last_iterate_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
   // Spheres: whether this solve has any, the active set (kept from frame to frame),
   // the centres at the last converged state and at the current increment, and work.

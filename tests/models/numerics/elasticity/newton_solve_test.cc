@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <functional>
+#include <stdexcept>
+#include <string>
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
@@ -116,6 +118,9 @@ TEST_P(UniaxialStretch, MatchesTheClosedFormInStretchAndCompression) {
       worst = std::max(worst, (X + u.segment<3>(3 * v) - x_expected).norm());
     }
     EXPECT_LT(worst, 1e-8 * b.a) << GetParam() << " l = " << l;
+    // det F = l t^2 in every tet: the smallest the solve reports is that.
+    EXPECT_NEAR(solve->report().at("smallest_det_f_last_solve").get<double>(), l * expected.t * expected.t, 1e-9)
+        << GetParam() << " l = " << l;
     // The force on the top plate (the tissue's on it): -P11 times the rest area.
     const double force = frame.group_forces()[3].z(), closed_form = -expected.P11 * b.a * b.a;
     EXPECT_NEAR(force, closed_form, 1e-8 * std::abs(closed_form)) << GetParam() << " l = " << l;
@@ -128,6 +133,45 @@ INSTANTIATE_TEST_SUITE_P(Laws, UniaxialStretch,
                          ::testing::Values("neo_hookean", "neo_hookean_isochoric", "stable_neo_hookean",
                                            "xpbd_neo_hookean"),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
+// A plate pushed through the block's base (l = -0.1) asks every tet to invert: the
+// increments approach the crush and halve until the solve gives up, in a one-line
+// error that names why the last attempt failed and the smallest det F of the last
+// converged state, which is the homogeneous compression's l t^2 at that load fraction.
+TEST(NewtonSolve, NoEquilibriumNamesTheLastAttemptsFailureAndTheSmallestDetF) {
+  const Block b;
+  const ElasticBody body(b.mesh, kMaterial, std::vector<char>(static_cast<size_t>(b.mesh.V.rows()), 0), b.groups());
+  auto solve = testing::make_solve(body, {{"solver", "newton"}, {"newton_load_steps", 4}});
+  const BodyLoads none(body, {});
+  ElasticFrame frame(body, none, *solve);
+  Eigen::VectorXd u;
+  const double l = -0.1;
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero(), top(0, 0, (l - 1) * b.H);
+  std::string error;
+  try {
+    frame.step({}, {zero, zero, zero, top}, u);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  ASSERT_EQ(error.rfind("newton solve (neo_hookean): no equilibrium at load fraction ", 0), 0u) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  EXPECT_NE(error.find("(the last attempt: "), std::string::npos) << error;
+  const std::string marker = "smallest det F at load fraction ";
+  const size_t at = error.find(marker);
+  ASSERT_NE(at, std::string::npos) << error;
+  size_t used = 0;
+  const double done = std::stod(error.substr(at + marker.size()), &used);
+  const double det = std::stod(error.substr(at + marker.size() + used + 2));  // after ": "
+  const double l_done = 1 + done * (l - 1);
+  ASSERT_GT(l_done, 0) << error;
+  EXPECT_LT(l_done, 0.2) << "the increments reach close to the crush: " << error;
+  const Uniaxial expected = uniaxial("neo_hookean", l_done, lame_parameters(kMaterial));
+  // The message prints the fraction to twelve digits (a sum of halvings: exact) and
+  // det F to six.
+  const double closed_form = l_done * expected.t * expected.t;
+  EXPECT_NEAR(det, closed_form, 1e-5 * closed_form) << error;
+  RecordProperty("last_converged_stretch", ::testing::PrintToString(l_done));
+}
 
 // A nearly incompressible block clamped at its base and compressed 18.25 % by a
 // bonded plate on its top (the Truth Cube's largest strain, docs/truth_cube.md) over
