@@ -84,7 +84,7 @@ def machine_note(cases, threads="one thread"):
                 named.append(f"{group} (all {len(names)} cases, load {min(loads):.1f}-{max(loads):.1f})")
             else:
                 named += [f"{n} (load {busy[n]:.1f})" for n in names if n in busy]
-        note += (" On a busy machine (the 1-minute load average more than 0.2 above the hardware threads at the case's setup or "
+        note += (f" On a busy machine (the 1-minute load average more than {BUSY_LOAD_MARGIN} above the hardware threads at the case's setup or "
                  "last frame: its times inflated by the other work): " + ", ".join(named) + ".")
     return note
 
@@ -92,7 +92,9 @@ def machine_note(cases, threads="one thread"):
 # Margin above the hardware threads before a case is called busy. The 1-minute load
 # average counts the case's own threads: a two-thread case alone on two hardware threads
 # reads 1.91-2.02 (every such case in results/, 2026-11-29), which is not other work;
-# the margin is twice that spread. A build beside a case adds about 0.5-2.
+# the margin is twice that spread. A build beside a case adds about 0.5-2. The flag asks
+# whether the machine was oversubscribed (more runnable threads than hardware threads),
+# not whether anything else ran: a one-thread case beside one other thread is not flagged.
 BUSY_LOAD_MARGIN = 0.2
 
 

@@ -543,7 +543,9 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
   if (opt.process == 0)
     for (const Scenario& s : e.scenarios)
       for (const auto& not_run : s.not_run) {
+        // Names are single folder names (scenario.cc refuses '.', '..', '/' and 'mesh').
         const fs::path scenario_dir = fs::path(opt.out_dir) / e.name / s.name;
+        if (fs::path(not_run.first).filename() != fs::path(not_run.first)) continue;
         std::error_code ec;
         fs::remove(scenario_dir / (not_run.first + ".failed.json"), ec);
         fs::remove_all(scenario_dir / not_run.first, ec);

@@ -250,6 +250,11 @@ Document read_scenario_document(const std::string& path, std::vector<std::string
   return d;
 }
 
+/// A name the results tree can use as one folder: not empty, not '.' or '..', no '/'.
+bool is_folder_name(const std::string& name) {
+  return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos;
+}
+
 /// The case name a model entry gives (parse_scenario's rule: "name", else "model"); "" if neither is a string.
 std::string case_name_of(const nlohmann::json& entry) {
   for (const char* key : {"name", "model"})
@@ -328,7 +333,7 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
   Scenario s;
   s.file = file;
   s.name = o.text("name", std::nullopt);
-  if (s.name.empty() || s.name.find('/') != std::string::npos) o.fail("name", "must be a non-empty folder name");
+  if (!is_folder_name(s.name)) o.fail("name", "must be a folder name (not empty, '.' or '..', no '/')");
   s.description = o.text("description", "");
   s.mesh = parse_mesh_recipe(o.object("mesh"), base, data);
 
@@ -402,6 +407,9 @@ Scenario parse_scenario(const Document& doc, const std::string& file, const Data
     ModelRun run;
     run.model = mo.text("model", std::nullopt);
     run.case_name = mo.text("name", run.model);
+    // Its results go to <scenario>/<name>/, beside the scenario's mesh/ folder.
+    if (!is_folder_name(run.case_name) || run.case_name == "mesh")
+      mo.fail("name", "'" + run.case_name + "' must be a folder name (not empty, '.', '..' or 'mesh', no '/')");
     const ModelInfo* info = nullptr;
     try {
       info = &find_model(run.model);
@@ -490,6 +498,7 @@ Experiment load_experiment(const std::string& path, const DataDir& data, const n
     StrictObject o(j, where);
     o.in_schema("experiment");
     e.name = o.text("name", std::nullopt);
+    if (!is_folder_name(e.name)) o.fail("name", "must be a folder name (not empty, '.' or '..', no '/')");
     e.description = o.text("description", "");
     e.reference = o.text("reference", "");
     e.transient_reference = o.text("transient_reference", "");

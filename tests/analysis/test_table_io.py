@@ -41,6 +41,10 @@ class MachineNote(unittest.TestCase):
         alone["timings"] = {"load_average_1min": {"at_setup": 1.0, "at_last_frame": 2.0098}}
         crowded["timings"] = {"load_average_1min": {"at_setup": 2.0, "at_last_frame": 2.6}}
         self.assertEqual(table_io.busy_cases({"alone": alone, "crowded": crowded}), {"crowded": 2.6})
+        at, above = case("abc"), case("abc")
+        at["timings"] = {"load_average_1min": {"at_setup": 2.2}}
+        above["timings"] = {"load_average_1min": {"at_setup": 2.21}}
+        self.assertEqual(table_io.busy_cases({"at": at, "above": above}), {"above": 2.21})
 
     def test_a_group_all_of_whose_cases_were_busy_is_named_once(self):
         cases = {}

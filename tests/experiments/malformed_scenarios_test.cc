@@ -52,6 +52,24 @@ TEST_F(MalformedScenarios, AnExperimentEntryThatIsNoFileIsNamed) {
   expect_refused(R"({"name": "e", "scenarios": ["absent.json"]})", "'absent.json': no such scenario file");
 }
 
+// Experiment, scenario and case names become folders of the results tree (and a case
+// not run has its folder removed): each must be one folder name.
+TEST_F(MalformedScenarios, NamesThatAreNoSingleFolderAreRefused) {
+  for (const char* bad : {"", ".", "..", "a/b"}) {
+    nlohmann::json scenario = small_cube();
+    scenario["name"] = bad;
+    expect_refused(scenario.dump(), "name: must be a folder name (not empty, '.' or '..', no '/')");
+    nlohmann::json experiment = {{"name", bad}, {"reference", "fem-direct"}, {"scenarios", {"small.json"}}};
+    write("small.json", small_cube());
+    expect_refused(experiment.dump(), "name: must be a folder name (not empty, '.' or '..', no '/')");
+  }
+  for (const char* bad : {"", ".", "..", "../escape", "mesh"}) {
+    nlohmann::json scenario = small_cube();
+    scenario["models"][0]["name"] = bad;
+    expect_refused(scenario.dump(), "'" + std::string(bad) + "' must be a folder name (not empty, '.', '..' or 'mesh', no '/')");
+  }
+}
+
 TEST_F(MalformedScenarios, ASweepMakingTooManyScenariosIsRefusedBeforeExpanding) {
   write("small.json", small_cube());
   nlohmann::json values = nlohmann::json::array();

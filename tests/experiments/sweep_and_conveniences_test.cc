@@ -237,12 +237,12 @@ TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
             "hybrid: tools[0] (sphere): control_points exact_fine_fem takes no tools; use control_points coarse_fem");
 
   // What an earlier run left of a case now not run (its results, its failure) goes;
-  // a case that runs keeps its folder.
+  // a case that can run but is not selected this time (vbd) keeps its results.
   const fs::path scenario_dir = dir / "out" / "suite" / "palpated";
   fs::create_directories(scenario_dir / "fem-corotational");
-  fs::create_directories(scenario_dir / "vbd-embedded");
-  fs::create_directories(scenario_dir / "fem-direct");
-  for (const char* stale : {"fem-corotational/run.json", "fem-corotational.failed.json", "vbd-embedded.failed.json"})
+  fs::create_directories(scenario_dir / "vbd");
+  for (const char* stale :
+       {"fem-corotational/run.json", "fem-corotational.failed.json", "vbd-embedded.failed.json", "vbd/run.json"})
     std::ofstream(scenario_dir / stale) << "{}";
   RunOptions o;
   o.out_dir = (dir / "out").string();
@@ -253,6 +253,7 @@ TEST_F(Scenarios, CasesRefusedByTheirParametersAreLeftOutBeforeSetup) {
   EXPECT_FALSE(fs::exists(scenario_dir / "fem-corotational.failed.json"));
   EXPECT_FALSE(fs::exists(scenario_dir / "vbd-embedded.failed.json"));
   EXPECT_TRUE(fs::exists(scenario_dir / "fem-direct" / "run.json"));
+  EXPECT_TRUE(fs::exists(scenario_dir / "vbd" / "run.json"));
 }
 
 // tissuebench run --skip-scenario NAME: that scenario left out, the others kept in

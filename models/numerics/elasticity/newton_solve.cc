@@ -171,6 +171,7 @@ class NewtonSolve : public ElasticSolve {
           // body snaps to: at the fold itself the unstable mode's stiffness is near zero
           // and the damped flow would leave it as slowly.
           const double failed_at = target;
+          const std::string plain_why = why_failed_;  // before a continuation records its own
           bool rescued = false;
           if (contact_) {
             rescues_ = 1;
@@ -184,13 +185,14 @@ class NewtonSolve : public ElasticSolve {
           }
           if (!rescued) {
             active_ = active_converged;  // a caller that goes on starts from the last converged set
-            const std::string why = why_failed_;
+            const std::string continuation_why = contact_ ? why_failed_ : "";
             assemble(state, false);  // the last converged state's smallest det F, for the message
             std::ostringstream msg;
             msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
                 << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
-                << " (the last attempt: " << why << "; smallest det F at load fraction "
+                << " (the last attempt: " << plain_why
+                << (contact_ ? "; the continuation: " + continuation_why : std::string()) << "; smallest det F at load fraction "
                 << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_
                 << "); the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());

@@ -192,6 +192,11 @@ TEST(NewtonSphereDrag, CrushingASmallCubeUnderAWideSphereIsAOneLineError) {
   EXPECT_NE(d.error.find("after 12 halvings of the increment and a pseudo-transient continuation"),
             std::string::npos)
       << d.error;
+  // Both reasons: plain Newton's last attempt and the continuation's.
+  EXPECT_NE(d.error.find("(the last attempt: "), std::string::npos) << d.error;
+  EXPECT_NE(d.error.find("; the continuation: the pseudo-time-shifted tangent is not positive definite; "),
+            std::string::npos)
+      << d.error;
 }
 
 }  // namespace
