@@ -193,7 +193,9 @@ class NewtonSolve : public ElasticSolve {
                 << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
                 << " (the last attempt: " << plain_why
                 << (contact_ ? "; the continuation: " + continuation_why : std::string()) << "; smallest det F at load fraction "
-                << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_
+                << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_ << " in the tet at ("
+                << smallest_det_f_where().x() << ", " << smallest_det_f_where().y() << ", "
+                << smallest_det_f_where().z() << ") at rest"
                 << "); the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());
           }
@@ -208,6 +210,7 @@ class NewtonSolve : public ElasticSolve {
     assemble(state, false);
     f_int_solution_ = f_int_;
     smallest_det_f_solution_ = smallest_det_f_;
+    smallest_det_f_where_ = smallest_det_f_where();
     if (o_.time_step > 0) velocity_ = (state - u_converged_) / o_.time_step;
     u = state;
     u_converged_ = state;
@@ -223,7 +226,9 @@ class NewtonSolve : public ElasticSolve {
                         {"load_increments_last_solve", increments_},
                         {"increment_halvings_last_solve", halvings_},
                         {"newton_iterations_last_solve", iterations_},
-                        {"smallest_det_f_last_solve", smallest_det_f_solution_}};
+                        {"smallest_det_f_last_solve", smallest_det_f_solution_},
+                        {"smallest_det_f_tet_at_rest_m",
+                         {smallest_det_f_where_.x(), smallest_det_f_where_.y(), smallest_det_f_where_.z()}}};
     if (spheres_) {
       r["pseudo_transient_continuations_last_solve"] = rescues_;
       r["pseudo_transient_continuations"] = rescues_total_;
@@ -358,6 +363,7 @@ class NewtonSolve : public ElasticSolve {
     u_converged_ = state;
     f_int_solution_ = f_int_;
     smallest_det_f_solution_ = smallest_det_f_;
+    smallest_det_f_where_ = smallest_det_f_where();
     f_converged_ = f;
   }
 
@@ -410,6 +416,7 @@ class NewtonSolve : public ElasticSolve {
     f_int_.setZero(body_.dofs());
     inverted_tets_ = 0;
     smallest_det_f_ = std::numeric_limits<double>::infinity();
+    smallest_det_f_tet_ = -1;
     if (tangent) std::fill(K_full_.valuePtr(), K_full_.valuePtr() + K_full_.nonZeros(), 0.0);
     for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
       const TetShape& s = shapes_[static_cast<size_t>(t)];
@@ -417,7 +424,7 @@ class NewtonSolve : public ElasticSolve {
       for (int a = 0; a < 4; ++a) x.col(a) = m.V.row(m.T(t, a)).transpose() + u.segment<3>(3 * m.T(t, a));
       const Eigen::Matrix3d F = tet_deformation_gradient(s, x);
       const double J = F.determinant();
-      smallest_det_f_ = std::min(smallest_det_f_, J);
+      if (J < smallest_det_f_) smallest_det_f_ = J, smallest_det_f_tet_ = static_cast<int>(t);
       if (!(J > 0)) {
         if (!law_.defined_when_inverted) return false;
         ++inverted_tets_;
@@ -582,6 +589,15 @@ class NewtonSolve : public ElasticSolve {
         }
       }
     }
+  }
+
+  /// The rest centroid of the tet with the smallest det F at the last state assembled.
+  Eigen::Vector3d smallest_det_f_where() const {
+    if (smallest_det_f_tet_ < 0) return Eigen::Vector3d::Zero();
+    const TetMesh& m = body_.mesh();
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 4; ++a) c += m.V.row(m.T(smallest_det_f_tet_, a)).transpose() / 4;
+    return c;
   }
 
   /// Records why the last Newton attempt failed (the solve's error names the last
@@ -925,6 +941,8 @@ class NewtonSolve : public ElasticSolve {
   int inverted_tets_ = 0;  ///< tets with det F <= 0 at the last state assembled (laws defined there)
   double smallest_det_f_ = 1;           ///< the smallest det F at the last state assembled
   double smallest_det_f_solution_ = 1;  ///< ... at the last solve's answer (reported)
+  int smallest_det_f_tet_ = -1;         ///< the tet where smallest_det_f_ is
+  Eigen::Vector3d smallest_det_f_where_ = Eigen::Vector3d::Zero();  ///< its rest centroid at the last answer
   std::string why_failed_;              ///< why the last Newton attempt failed (failed())
   Eigen::VectorXd last_iterate_, du_p_, r_, coupling_, du_free_, du_full_, u_try_;
   // Spheres: whether this solve has any, the active set (kept from frame to frame),

@@ -7,13 +7,16 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "elastic_body.h"
 #include "elastic_solve.h"
 #include "lame_parameters.h"
 #include "load_mapping.h"
+#include "tet_element.h"
 #include "test_support.h"
 
 namespace tb {
@@ -118,9 +121,14 @@ TEST_P(UniaxialStretch, MatchesTheClosedFormInStretchAndCompression) {
       worst = std::max(worst, (X + u.segment<3>(3 * v) - x_expected).norm());
     }
     EXPECT_LT(worst, 1e-8 * b.a) << GetParam() << " l = " << l;
-    // det F = l t^2 in every tet: the smallest the solve reports is that.
-    EXPECT_NEAR(solve->report().at("smallest_det_f_last_solve").get<double>(), l * expected.t * expected.t, 1e-9)
+    // det F = l t^2 in every tet: the smallest the solve reports is that, in a tet of the block.
+    const nlohmann::json report = solve->report();
+    EXPECT_NEAR(report.at("smallest_det_f_last_solve").get<double>(), l * expected.t * expected.t, 1e-9)
         << GetParam() << " l = " << l;
+    const auto where = report.at("smallest_det_f_tet_at_rest_m").get<std::vector<double>>();
+    ASSERT_EQ(where.size(), 3u);
+    EXPECT_TRUE(where[0] > 0 && where[0] < b.a && where[1] > 0 && where[1] < b.a && where[2] > 0 && where[2] < b.H)
+        << where[0] << " " << where[1] << " " << where[2];
     // The force on the top plate (the tissue's on it): -P11 times the rest area.
     const double force = frame.group_forces()[3].z(), closed_form = -expected.P11 * b.a * b.a;
     EXPECT_NEAR(force, closed_form, 1e-8 * std::abs(closed_form)) << GetParam() << " l = " << l;
@@ -175,6 +183,40 @@ TEST(NewtonSolve, NoEquilibriumNamesTheLastAttemptsFailureAndTheSmallestDetF) {
   const double closed_form = l_done * expected.t * expected.t;
   EXPECT_NEAR(det, closed_form, 1e-5 * closed_form) << error;
   RecordProperty("last_converged_stretch", ::testing::PrintToString(l_done));
+}
+
+// The smallest det F and where it is, recomputed from the answer: under the paper
+// cube's point push (0.5 N) it is the most compressed tet, which lies under the load.
+TEST(NewtonSolve, TheSmallestDetFAndItsTetAreTheAnswersOwn) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
+  const Eigen::Vector3d load_point(0, 0, 0.1);
+  const BodyLoads loads(body, {containing_tet(h.fine_volume, load_point, "fine volume")});
+  auto newton = testing::make_solve(body, {{"solver", "newton"}, {"newton_load_steps", 2}});
+  Eigen::VectorXd u;
+  newton->solve(loads, {Eigen::Vector3d(0, 0, -0.5)}, u);
+  const TetMesh& m = h.fine_volume;
+  double smallest = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d where = Eigen::Vector3d::Zero();
+  for (Eigen::Index t = 0; t < m.T.rows(); ++t) {
+    Eigen::Matrix<double, 3, 4> x;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) {
+      x.col(k) = m.V.row(m.T(t, k)).transpose() + u.segment<3>(3 * m.T(t, k));
+      centroid += m.V.row(m.T(t, k)).transpose() / 4;
+    }
+    const TetShape shape = tet_shape(m.V.row(m.T(t, 0)), m.V.row(m.T(t, 1)), m.V.row(m.T(t, 2)), m.V.row(m.T(t, 3)));
+    const double J = tet_deformation_gradient(shape, x).determinant();
+    if (J < smallest) smallest = J, where = centroid;
+  }
+  const nlohmann::json report = newton->report();
+  EXPECT_NEAR(report.at("smallest_det_f_last_solve").get<double>(), smallest, 1e-12);
+  const auto reported = report.at("smallest_det_f_tet_at_rest_m").get<std::vector<double>>();
+  ASSERT_EQ(reported.size(), 3u);
+  EXPECT_LT((Eigen::Vector3d(reported[0], reported[1], reported[2]) - where).norm(), 1e-12);
+  EXPECT_LT(smallest, 0.9);
+  EXPECT_LT((where - load_point).norm(), 0.02) << "the most compressed tet lies under the push";
+  RecordProperty("smallest_det_f", ::testing::PrintToString(smallest));
 }
 
 // A nearly incompressible block clamped at its base and compressed 18.25 % by a
