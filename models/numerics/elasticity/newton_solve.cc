@@ -187,6 +187,7 @@ class NewtonSolve : public ElasticSolve {
             active_ = active_converged;  // a caller that goes on starts from the last converged set
             const std::string continuation_why = contact_ ? why_failed_ : "";
             assemble(state, false);  // the last converged state's smallest det F, for the message
+            const Eigen::Vector3d where = smallest_det_f_where();
             std::ostringstream msg;
             msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
@@ -194,8 +195,7 @@ class NewtonSolve : public ElasticSolve {
                 << " (the last attempt: " << plain_why
                 << (contact_ ? "; the continuation: " + continuation_why : std::string()) << "; smallest det F at load fraction "
                 << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_ << " in the tet at ("
-                << smallest_det_f_where().x() << ", " << smallest_det_f_where().y() << ", "
-                << smallest_det_f_where().z() << ") at rest"
+                << where.x() << ", " << where.y() << ", " << where.z() << ") at rest"
                 << "); the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());
           }
