@@ -5,7 +5,11 @@
 // analysis once, numeric factorisation per iteration), with load increments from the
 // last converged state (forces and prescribed displacements alike), a backtracking
 // line search on the residual, and increments halved when Newton fails (an element
-// the law cannot take, an indefinite tangent, no decrease, too many iterations). The
+// the law cannot take, an indefinite tangent, no decrease, too many iterations);
+// where 12 halvings still fail (a limit point or a bifurcation of the path: the
+// tangent indefinite next to a converged state), the frame is finished by
+// pseudo-transient continuation (Kelley and Keyes 1998; below) from the last
+// converged state under the frame's whole load, to the equilibrium the body snaps to. The
 // one-process nonlinear answer on the paper-sized meshes, beside the distributed
 // reference (models/fem_distributed), and the nonlinear coarse FEM of the
 // embedded and hybrid models (coarse_solver newton). Not a real-time strategy: a
@@ -39,8 +43,8 @@
 // lambda < 0 leave the set and penetrating ones join. The sphere moves with the load
 // increments (docs/equations.md, "Contact with a rigid sphere"). A set entered again
 // without the merit halving ends the increment (the update cycles); where increments
-// halved 12 times still fail, a fold of the quasi-static path, the frame is finished
-// by pseudo-transient continuation (Kelley and Keyes 1998; below).
+// halved 12 times still fail (a fold of the quasi-static path, docs/equations.md) the
+// pseudo-transient continuation finishes the frame, as under dead loads.
 //
 // With a time step h it is the dynamic reference (models/fem_dynamic): implicit
 // (backward) Euler with the lumped mass M, each step the minimiser of the
@@ -163,37 +167,35 @@ class NewtonSolve : public ElasticSolve {
         active_ = active_converged;  // the increment again from the last converged set
         increment /= 2;
         if (++halvings_ > o_.max_halvings) {
-          // The increment is down to 2^-max_halvings of the frame and still fails: with
-          // spheres, a fold of the quasi-static path (a node's contact force reaches 0
-          // where the body without it would be inside the sphere: no equilibrium nearby,
-          // docs/equations.md). Pseudo-transient continuation from the last converged
-          // state (at the fold) under the frame's whole load finds the equilibrium the
-          // body snaps to: at the fold itself the unstable mode's stiffness is near zero
-          // and the damped flow would leave it as slowly.
+          // The increment is down to 2^-max_halvings of the frame and still fails: a
+          // fold or a bifurcation of the quasi-static path. With spheres, a node's
+          // contact force reaches 0 where the body without it would be inside the
+          // sphere (no equilibrium nearby, docs/equations.md); under dead loads, the
+          // tangent turns indefinite next to a converged state (a limit point or a
+          // buckling mode). Pseudo-transient continuation from the last converged
+          // state under the frame's whole load finds the equilibrium the body snaps
+          // to: at the fold itself the unstable mode's stiffness is near zero and the
+          // damped flow would leave it as slowly.
           const double failed_at = target;
-          const std::string plain_why = why_failed_;  // before a continuation records its own
-          bool rescued = false;
-          if (contact_) {
-            rescues_ = 1;
-            ++rescues_total_;
-            target = 1;
-            f = f_free;
-            centres_now_ = spheres_->centres();
-            trial = state;
-            set_constrained(u_start, u_target, target, trial);
-            rescued = continue_pseudo_transiently(f, trial);
-          }
-          if (!rescued) {
+          const std::string plain_why = why_failed_;  // before the continuation records its own
+          rescues_ = 1;
+          ++rescues_total_;
+          target = 1;
+          f = f_free;
+          if (contact_) centres_now_ = spheres_->centres();
+          trial = state;
+          set_constrained(u_start, u_target, target, trial);
+          predict_interior(state, f, trial);
+          if (!continue_pseudo_transiently(f, trial)) {
             active_ = active_converged;  // a caller that goes on starts from the last converged set
-            const std::string continuation_why = contact_ ? why_failed_ : "";
+            const std::string continuation_why = why_failed_;
             assemble(state, false);  // the last converged state's smallest det F, for the message
             const Eigen::Vector3d where = smallest_det_f_where();
             std::ostringstream msg;
             msg << "newton solve (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
                 << o_.max_halvings << " halvings of the increment"
-                << (contact_ ? " and a pseudo-transient continuation from there to the frame's end" : "")
-                << " (the last attempt: " << plain_why
-                << (contact_ ? "; the continuation: " + continuation_why : std::string()) << "; smallest det F at load fraction "
+                << " and a pseudo-transient continuation from there to the frame's end (the last attempt: "
+                << plain_why << "; the continuation: " << continuation_why << "; smallest det F at load fraction "
                 << std::setprecision(12) << done << std::setprecision(6) << ": " << smallest_det_f_ << " in the tet at ("
                 << where.x() << ", " << where.y() << ", " << where.z() << ") at rest"
                 << "); the load may exceed what the mesh and law allow";
@@ -229,11 +231,9 @@ class NewtonSolve : public ElasticSolve {
                         {"smallest_det_f_last_solve", smallest_det_f_solution_},
                         {"smallest_det_f_tet_at_rest_m",
                          {smallest_det_f_where_.x(), smallest_det_f_where_.y(), smallest_det_f_where_.z()}}};
-    if (spheres_) {
-      r["pseudo_transient_continuations_last_solve"] = rescues_;
-      r["pseudo_transient_continuations"] = rescues_total_;
-      r["active_set_cycles_detected"] = active_set_cycles_;
-    }
+    r["pseudo_transient_continuations_last_solve"] = rescues_;
+    r["pseudo_transient_continuations"] = rescues_total_;
+    if (spheres_) r["active_set_cycles_detected"] = active_set_cycles_;
     if (o_.max_iterations_per_frame > 0) {
       r["newton_max_iterations_per_frame"] = o_.max_iterations_per_frame;
       r["relative_residual_last_solve"] = relative_residual_;

@@ -143,9 +143,10 @@ INSTANTIATE_TEST_SUITE_P(Laws, UniaxialStretch,
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 // A plate pushed through the block's base (l = -0.1) asks every tet to invert: the
-// increments approach the crush and halve until the solve gives up, in a one-line
-// error that names why the last attempt failed and the smallest det F of the last
-// converged state, which is the homogeneous compression's l t^2 at that load fraction.
+// increments approach the crush and halve, the continuation to the frame's end
+// fails too, and the solve gives up in a one-line error that names why the last
+// attempt and the continuation failed and the smallest det F of the last converged
+// state, which is the homogeneous compression's l t^2 at that load fraction.
 TEST(NewtonSolve, NoEquilibriumNamesTheLastAttemptsFailureAndTheSmallestDetF) {
   const Block b;
   const ElasticBody body(b.mesh, kMaterial, std::vector<char>(static_cast<size_t>(b.mesh.V.rows()), 0), b.groups());
@@ -163,9 +164,12 @@ TEST(NewtonSolve, NoEquilibriumNamesTheLastAttemptsFailureAndTheSmallestDetF) {
   }
   ASSERT_EQ(error.rfind("newton solve (neo_hookean): no equilibrium at load fraction ", 0), 0u) << error;
   EXPECT_EQ(error.find('\n'), std::string::npos) << error;
-  // Measured: the crushed block's tangent gives out before any tet inverts.
-  EXPECT_NE(error.find("(the last attempt: the tangent is not positive definite (an element compressed or sheared "
-                       "past its stability); smallest det F at load fraction "),
+  // Measured: the crushed block's tangent gives out before any tet inverts; the
+  // continuation to the frame's end starts from the plate through the base.
+  EXPECT_NE(error.find("after 12 halvings of the increment and a pseudo-transient continuation from there to the "
+                       "frame's end (the last attempt: the tangent is not positive definite (an element compressed or "
+                       "sheared past its stability); the continuation: the increment's predicted start inverts a tet; "
+                       "smallest det F at load fraction "),
             std::string::npos)
       << error;
   const std::string marker = "smallest det F at load fraction ";
@@ -183,6 +187,74 @@ TEST(NewtonSolve, NoEquilibriumNamesTheLastAttemptsFailureAndTheSmallestDetF) {
   const double closed_form = l_done * expected.t * expected.t;
   EXPECT_NEAR(det, closed_form, 1e-5 * closed_form) << error;
   RecordProperty("last_converged_stretch", ::testing::PrintToString(l_done));
+}
+
+/// A shallow clamped arch (span L, rise h, thickness t, width w; the box mesh bent
+/// by z += h (1 - (2x/L - 1)^2)), held in y (plane strain), its crown pushed down by
+/// a dead point load.
+struct ShallowArch {
+  const double L = 0.1, h = 0.02, t = 0.004, w = 0.01;
+  TetMesh mesh = bent(testing::box_mesh(L, w, t, 24, 2, 2, 2e-8));
+  TetMesh bent(TetMesh m) const {
+    for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+      const double s = 2 * m.V(v, 0) / L - 1;
+      m.V(v, 2) += h * (1 - s * s);
+    }
+    return m;
+  }
+  std::vector<char> clamped() const {
+    std::vector<char> c(static_cast<size_t>(mesh.V.rows()), 0);
+    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
+      c[static_cast<size_t>(v)] = mesh.V(v, 0) < 1e-12 || mesh.V(v, 0) > L - 1e-12;
+    return c;
+  }
+  std::vector<PrescribedGroup> plane_strain() const {
+    std::vector<PrescribedGroup> g(1);
+    g[0].components[0] = g[0].components[2] = false;
+    const std::vector<char> c = clamped();
+    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
+      if (!c[static_cast<size_t>(v)]) g[0].nodes.push_back(static_cast<int>(v));
+    return g;
+  }
+  Eigen::Vector3d crown() const { return {L / 2, w / 2, h + t / 2}; }
+};
+
+// The arch's crown node (the mesh vertex nearest the crown's mid-thickness point).
+Eigen::Index crown_node(const ShallowArch& arch) {
+  Eigen::Index v;
+  (arch.mesh.V.rowwise() - arch.crown().transpose()).rowwise().norm().minCoeff(&v);
+  return v;
+}
+
+// Under a dead load the arch's path has a limit point (measured: the crown moves
+// 5.3 mm under 0.6 N, then no equilibrium nearby by 0.8 N): the increments halve
+// 12 times at the fold, and the solve continues from there pseudo-transiently under
+// the frame's whole load to the equilibrium the arch snaps to, inverted (its crown
+// below its supports). That answer is the one the stable inverted branch gives when
+// reached from the other side: loaded past the fold to 1.5 N, then unloaded to 1 N
+// by plain Newton increments with no continuation.
+TEST(NewtonSolve, ASnappingArchIsCarriedPastItsLimitPointToTheInvertedBranch) {
+  const ShallowArch arch;
+  const ElasticBody body(arch.mesh, Material{1e6, 0.3, 1000}, arch.clamped(), arch.plane_strain());
+  const BodyLoads load(body, {containing_tet(arch.mesh, arch.crown(), "arch")});
+  const Eigen::Vector3d push(0, 0, -1), zero = Eigen::Vector3d::Zero();
+  const nlohmann::json options = {{"solver", "newton"}, {"newton_load_steps", 8}};
+  auto continued = testing::make_solve(body, options);
+  Eigen::VectorXd u;
+  ElasticFrame(body, load, *continued).step({push}, {zero}, u);
+  const nlohmann::json report = continued->report();
+  EXPECT_EQ(report.at("pseudo_transient_continuations_last_solve").get<int>(), 1) << "the fold stops plain Newton";
+  EXPECT_LT(u(3 * crown_node(arch) + 2), -arch.h) << "snapped through: the crown below its supports";
+  auto unloaded = testing::make_solve(body, options);
+  ElasticFrame frames(body, load, *unloaded);
+  Eigen::VectorXd v;
+  frames.step({1.5 * push}, {zero}, v);
+  ASSERT_EQ(unloaded->report().at("pseudo_transient_continuations_last_solve").get<int>(), 1);
+  frames.step({push}, {zero}, v);
+  EXPECT_EQ(unloaded->report().at("pseudo_transient_continuations_last_solve").get<int>(), 0);
+  EXPECT_LT((u - v).norm(), 1e-8 * v.norm());
+  RecordProperty("crown_displacement_m", ::testing::PrintToString(u(3 * crown_node(arch) + 2)));
+  RecordProperty("newton_iterations", report.at("newton_iterations_last_solve").get<int>());
 }
 
 // The smallest det F and where it is, recomputed from the answer: under the paper
