@@ -9,7 +9,8 @@ reference case's (the coupled neo-Hookean law, Newton), each case experiment.jso
 under law_references (the suite's reference-isochoric and reference-stable: the same
 Newton solve under another law), and the linear law: the first case of the
 reference's model whose run.json reports a linear solve (fem-linear). A case's law is
-the one its run.json's model report names (fine_solve.material_law). The ranked
+the one its run.json's model report names (fine_solve.material_law). A law reference
+whose answer inverts a tet (its smallest det F <= 0) is left out, and named. The ranked
 models are the cases that are none of the references (results_index.Experiment.
 is_reference). --with takes the law references from another run of the suite (the
 law cases run alone) and scores them beside RESULTS' cases, on the same meshes (the
@@ -65,12 +66,31 @@ def law_of(case):
     return LINEAR if report.get("solve") in LINEAR_SOLVES else None
 
 
+def smallest_det_f(case):
+    """The smallest det F over the tets of a case's answer, as its run.json's fine solve
+    reports it (Newton's smallest_det_f_last_solve), or None."""
+    return case["run"].get("model_report", {}).get("fine_solve", {}).get("smallest_det_f_last_solve")
+
+
+def inverted_law_cases(exp, cases):
+    """{law: (case name, smallest det F)} of the law references whose answer inverts a
+    tet (det F <= 0): a law defined past J = 0 (the stable neo-Hookean) has equilibria
+    no tissue reaches, which law_cases leaves out rather than call them the law's answer."""
+    inverted = {}
+    for name in [n for n in exp.law_references if n in cases]:
+        det = smallest_det_f(cases[name])
+        if det is not None and det <= 0:
+            inverted[law_of(cases[name])] = (name, det)
+    return inverted
+
+
 def law_cases(exp, cases):
     """{law: case name} of one scenario, in order: the reference's law, the law
-    references', then the linear law (the first case of the reference's model that
-    solved it), each law once."""
+    references' (but those whose answer inverts a tet: inverted_law_cases), then the
+    linear law (the first case of the reference's model that solved it), each law once."""
     laws = {}
-    for name in [exp.reference] + [n for n in exp.law_references if n in cases]:
+    inverted = {name for name, _ in inverted_law_cases(exp, cases).values()}
+    for name in [exp.reference] + [n for n in exp.law_references if n in cases and n not in inverted]:
         law = law_of(cases[name])
         if law is None:
             raise ResultsError(f"{cases[name]['folder']}/run.json: the model report names no material law")
@@ -216,7 +236,8 @@ def scenario_values(exp, role, beads):
         bead_values.update(spread({n: beads.rms_mm(cases[n]) for n in ranked}))
     # The ranked models' surface errors with each nonlinear law's answer as the reference.
     rankings = {short(law): {n: obs.field(n, name) for n in ranked} for law, name in laws.items() if law != LINEAR}
-    return {"laws": laws, "norms": norms, "values": values, "beads": bead_values, "rankings": rankings}
+    return {"laws": laws, "norms": norms, "values": values, "beads": bead_values, "rankings": rankings,
+            "inverted": inverted_law_cases(exp, cases)}
 
 
 def swapped(errors, other):
@@ -390,6 +411,11 @@ def write(everything, exp, missing, tables):
         text, rows = table(everything)
         md += text
         csv_rows += rows
+    inverted = [f"{short(law)} on {role} ({name}: smallest det F {det:.3g})"
+                for role, r in everything.items() for law, (name, det) in r["inverted"].items()]
+    if inverted:
+        md += ["", "Left out, their answer inverting tets (the law is defined past det F = 0, a tissue is not): "
+               + "; ".join(inverted) + "."]
     if missing:
         md += ["", "Not measured (no reference results): " + ", ".join(missing) + "."]
     all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.by_role(role).items()}

@@ -3,7 +3,7 @@ the difference between each pair of laws on the surface, the probes, the tool fo
 and the Truth Cube's beads, beside the ranked models' spread; the ranking under each
 law's answer; the law references
 never ranked by the leaderboard; law cases run alone scored beside the others
-(--with); a law reference whose report names no law, or a case without its surface,
+(--with); a law reference whose answer inverts a tet left out and named; a law reference whose report names no law, or a case without its surface,
 is a one-line error."""
 import csv
 import json
@@ -193,6 +193,29 @@ class LawSensitivity(unittest.TestCase):
             self.assertNotIn("coupled vs isochoric", out["torus_grasp"]["values"]["surface field"])
             with self.assertRaises(law_sensitivity.ResultsError):  # nothing to add
                 law_sensitivity.make(committed, tmp, None, with_results=committed)
+
+    def test_a_law_reference_whose_answer_inverts_a_tet_is_left_out_and_named(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            patch_run(os.path.join(exp, "pull", "reference-stable"),
+                      dict(LAWS["reference-stable"][2], smallest_det_f_last_solve=-0.47), False)
+            patch_run(os.path.join(exp, "grasp", "reference-stable"),
+                      dict(LAWS["reference-stable"][2], smallest_det_f_last_solve=0.2), False)
+            out = law_sensitivity.make(exp, tmp, write_bead_table(tmp))
+            pull = out["cube_pull_disc"]
+            self.assertNotIn("stable_neo_hookean", pull["laws"])
+            self.assertEqual(pull["inverted"], {"stable_neo_hookean": ("reference-stable", -0.47)})
+            field = pull["values"]["surface field"]
+            self.assertNotIn("coupled vs stable", field)
+            # The gap is now coupled vs isochoric's 0.05: vbd (0.01) and mymodel (0.02) below it.
+            self.assertEqual(field["models below"], ["vbd", "mymodel"])
+            self.assertNotIn("stable", pull["rankings"])
+            # An uninverted answer (det F 0.2) stays.
+            self.assertIn("coupled vs stable", out["torus_grasp"]["values"]["surface field"])
+            with open(os.path.join(tmp, "tables", "law_sensitivity.md")) as f:
+                md = f.read()
+            self.assertIn("Left out, their answer inverting tets (the law is defined past det F = 0, a tissue is "
+                          "not): stable on cube_pull_disc (reference-stable: smallest det F -0.47).", md)
 
     def test_bad_results_are_one_line_errors(self):
         with tempfile.TemporaryDirectory() as tmp:
