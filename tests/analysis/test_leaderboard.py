@@ -126,6 +126,22 @@ class Leaderboard(unittest.TestCase):
             self.assertIn("| cube_pull_disc | fem (field) | embedded 0.5 |", text)
             self.assertTrue(text.startswith("intro\n") and text.endswith("rest\n"))
 
+    def test_a_row_is_flagged_busy_by_its_ranked_cases_times_only(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+
+            def crowd(scenario, case):
+                with open(os.path.join(exp, scenario, case, "timings.json")) as f:
+                    timings = json.load(f)
+                timings["load_average_1min"] = {"at_setup": 3.9}
+                with open(os.path.join(exp, scenario, case, "timings.json"), "w") as f:
+                    json.dump(timings, f)
+            crowd("pull", "reference")  # the reference is scored, not ranked: its times place no model
+            crowd("grasp", "vbd")
+            leaderboard.make(exp, tmp, None, figures=False)
+            board = [r[0] for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]]
+            self.assertEqual(board, ["cube_pull_disc", "torus_grasp (times of 1 case from a busy machine)"])
+
     def test_a_case_whose_latest_run_failed_is_not_scored_on_its_earlier_folder(self):
         # The runner replaces a case's folder only on success: a failed rerun leaves the
         # earlier folder beside <case>.failed.json. The case counts as failed.
