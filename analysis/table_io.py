@@ -68,7 +68,7 @@ def machine_note(cases, threads="one thread"):
     def listed(counter, what):
         if len(counter) == 1:
             return f"{what} {next(iter(counter))}"
-        return f"{what}s " + ", ".join(f"{k} ({n} cases)" for k, n in sorted(counter.items()))
+        return f"{what}s " + ", ".join(f"{k} ({n} case{'s' if n > 1 else ''})" for k, n in sorted(counter.items()))
     on = listed(machines, "machine").removeprefix("machine ")
     note = f"Measured on {on}, {listed(commits, 'commit')}; {threads}."
     busy = busy_cases(cases)

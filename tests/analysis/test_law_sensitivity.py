@@ -1,10 +1,10 @@
 """analysis/law_sensitivity.py on a small results tree (test_leaderboard.py's cases):
 the difference between each pair of laws on the surface, the probes, the tool force
 and the Truth Cube's beads, beside the ranked models' spread; the ranking under each
-law's answer; the law references
-never ranked by the leaderboard; law cases run alone scored beside the others
-(--with); a law reference whose answer inverts a tet left out and named; a law reference whose report names no law, or a case without its surface,
-is a one-line error."""
+law's answer; the law references never ranked by the leaderboard; law cases run
+alone scored beside the others (--with); a law reference whose answer inverts a tet
+left out and named; a law reference whose report names no law, or a case without its
+surface, is a one-line error."""
 import csv
 import json
 import os
@@ -216,6 +216,10 @@ class LawSensitivity(unittest.TestCase):
                 md = f.read()
             self.assertIn("Left out, their answer inverting tets (the law is defined past det F = 0, a tissue is "
                           "not): stable on cube_pull_disc (reference-stable: smallest det F -0.47).", md)
+            with open(os.path.join(tmp, "tables", "law_sensitivity.csv")) as f:
+                rows = list(csv.reader(f))
+            self.assertIn(["cube_pull_disc", "left out: inverts a tet", "stable (reference-stable)", "-0.47",
+                           "smallest det F"], rows)
 
     def test_bad_results_are_one_line_errors(self):
         with tempfile.TemporaryDirectory() as tmp:

@@ -21,12 +21,12 @@ class MachineNote(unittest.TestCase):
 
     def test_every_commit_is_named_with_its_case_count(self):
         note = table_io.machine_note({"a": case("abc"), "b": case("def"), "c": case("abc")})
-        self.assertIn("commits abc (2 cases), def (1 cases)", note)
+        self.assertIn("commits abc (2 cases), def (1 case)", note)
 
     def test_every_machine_is_named_with_its_case_count(self):
         note = table_io.machine_note({"a": case("abc", "Xeon"), "b": case("abc", "EPYC")})
         self.assertTrue(note.startswith("Measured on machines EPYC (2 hardware threads), Release build, g++ 12.2.0 "
-                                        "(1 cases), Xeon"), note)
+                                        "(1 case), Xeon"), note)
         self.assertIn("commit abc;", note)
 
     def test_a_case_run_on_a_busy_machine_is_named_with_its_load(self):

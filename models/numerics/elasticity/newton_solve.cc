@@ -185,7 +185,11 @@ class NewtonSolve : public ElasticSolve {
           if (contact_) centres_now_ = spheres_->centres();
           trial = state;
           set_constrained(u_start, u_target, target, trial);
-          predict_interior(state, f, trial);
+          // The interior moved with the held values alone: the predictor at the load
+          // the state is in equilibrium with (the frame's whole load in its right-hand
+          // side would be Newton's full step from the fold, which the continuation is
+          // there to damp). Not with spheres: the step would drop the contact forces.
+          if (!contact_) predict_interior(state, (1 - done) * f_converged_ + done * f_free, trial);
           if (!continue_pseudo_transiently(f, trial)) {
             active_ = active_converged;  // a caller that goes on starts from the last converged set
             const std::string continuation_why = why_failed_;
@@ -464,7 +468,7 @@ class NewtonSolve : public ElasticSolve {
   /// with u the equilibrium when converged. With spheres (contact_), the KKT
   /// conditions at centres_now_ with the active set active_ (header comment).
   bool newton(const Eigen::VectorXd& f, Eigen::VectorXd& u) {
-    if (!assemble(u, true)) return failed("the increment's predicted start inverts a tet");
+    if (!assemble(u, true)) return failed("the start (the held values moved, the interior predicted) inverts a tet");
     Eigen::VectorXd r, du_free, du_full, u_try;
     residual(f, r);
     // The scale of the forces in play: the external ones, or (under prescribed
