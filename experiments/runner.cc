@@ -33,6 +33,7 @@
 #include "build_info.h"
 #include "mesh_checks.h"
 #include "mesh_io.h"
+#include "progress_notice.h"
 #include "resource_limits.h"
 #include "sphere_guard.h"
 #include "staged_folder.h"
@@ -179,6 +180,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   out.case_name = run.case_name;
   const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
+  // A model's own progress lines (a Newton solve of minutes) among the runner's.
+  const ScopedProgressNotices notices([&](const std::string& text) { progress.line(label + ": " + text); });
   Problem problem{&mesh, s.material, s.load_case(), run.parameters, s.probes};
   check_supported(info, problem.parameters, problem.load_case);  // an unsupported load or tool stops here, before setup
   std::unique_ptr<Model> model = info.create();

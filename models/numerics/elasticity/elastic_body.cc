@@ -23,6 +23,9 @@ void use_one_thread() {
   limit_assembly_threads(1);
 }
 
+BlasThreads::BlasThreads(int threads) { openblas_set_num_threads(threads); }
+BlasThreads::~BlasThreads() { openblas_set_num_threads(1); }
+
 ElasticBody::ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
                          std::vector<PrescribedGroup> prescribed, const std::vector<NodeSpring>& springs)
     : mesh_(mesh), material_(material), groups_(std::move(prescribed)) {

@@ -26,6 +26,17 @@ namespace tb {
 /// reports is single-threaded. Call once at program start.
 void use_one_thread();
 
+/// OpenBLAS's threads (the dense kernels of CHOLMOD's supernodal factorisation) set
+/// to `threads` for this object's lifetime, one again after: a reference solve on a
+/// large mesh may take the machine's cores, every other timing stays single-threaded.
+class BlasThreads {
+ public:
+  explicit BlasThreads(int threads);
+  ~BlasThreads();
+  BlasThreads(const BlasThreads&) = delete;
+  BlasThreads& operator=(const BlasThreads&) = delete;
+};
+
 /// Nodes whose displacement is prescribed together each frame: every listed
 /// component of every node gets that component of the group's value (a rigid
 /// translation); the other components stay free (a plate that slides).

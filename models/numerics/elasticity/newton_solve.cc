@@ -66,6 +66,7 @@
 #include "lame_parameters.h"
 #include "low_rank_downdate.h"
 #include "material_laws.h"
+#include "progress_notice.h"
 #include "tet_element.h"
 
 namespace tb {
@@ -81,6 +82,7 @@ class NewtonSolve : public ElasticSolve {
     int max_halvings = 12;
     int max_iterations_per_frame = 0;  ///< > 0: a frame does at most this many iterations from the last iterate
     double time_step = 0;              ///< > 0: implicit Euler with this step, s (else static)
+    int blas_threads = 1;              ///< OpenBLAS threads under CHOLMOD's factorisation, during a solve
   };
 
   NewtonSolve(const ElasticBody& body, const Options& o)
@@ -138,6 +140,7 @@ class NewtonSolve : public ElasticSolve {
 
   void solve(const Eigen::VectorXd& f_free, const std::vector<int>*, Eigen::VectorXd& u) override {
     if (u.size() != body_.dofs()) u = Eigen::VectorXd::Zero(body_.dofs());
+    const BlasThreads blas(o_.blas_threads);
     if (o_.max_iterations_per_frame > 0) return budgeted(f_free, u);  // takes no sphere
     // The target: this frame's forces and the prescribed values the caller set in u;
     // the start: the last converged state.
@@ -150,9 +153,11 @@ class NewtonSolve : public ElasticSolve {
     std::vector<ActivePair> active_converged = active_;
     double done = 0, increment = 1.0 / std::max(1, o_.load_steps);
     rescues_ = 0;
+    notice_clock_.restart();
     while (done < 1) {
       double target = done + increment;
       if (target > 1 - 1e-12) target = 1;
+      load_fraction_ = target;
       f = (1 - target) * f_converged_ + target * f_free;
       if (contact_) centres_now_ = (1 - target) * centres_converged_ + target * spheres_->centres();
       Eigen::VectorXd trial = state;
@@ -178,9 +183,18 @@ class NewtonSolve : public ElasticSolve {
           // damped flow would leave it as slowly.
           const double failed_at = target;
           const std::string plain_why = why_failed_;  // before the continuation records its own
+          const int iterations_before = iterations_;
+          if (progress_notices_wanted()) {
+            std::ostringstream note;
+            note << "newton (" << law_.name << "): no equilibrium at load fraction " << failed_at << " after "
+                 << o_.max_halvings << " halvings (" << plain_why
+                 << "); a pseudo-transient continuation to the frame's end, up to "
+                 << 2 * kPseudoTransientIterations + o_.max_iterations << " iterations";
+            progress_notice(note.str());
+          }
           rescues_ = 1;
           ++rescues_total_;
-          target = 1;
+          target = load_fraction_ = 1;
           f = f_free;
           if (contact_) centres_now_ = spheres_->centres();
           trial = state;
@@ -205,6 +219,9 @@ class NewtonSolve : public ElasticSolve {
                 << "); the load may exceed what the mesh and law allow";
             throw std::runtime_error(msg.str());
           }
+          if (progress_notices_wanted())
+            progress_notice("newton (" + law_.name + "): the continuation reached the frame's equilibrium in " +
+                            std::to_string(iterations_ - iterations_before) + " iterations");
           state = trial;
           done = target;
           ++increments_;
@@ -506,6 +523,7 @@ class NewtonSolve : public ElasticSolve {
       }
       if (it == max_iterations) return failed("no convergence in the iterations allowed");
       ++iterations_;
+      if (notice_clock_.due()) notice_iteration(r_norm / scale);
       // The contact's curvature: in the tangent itself where pseudo-time's shift must
       // make the whole of it definite; otherwise a low-rank downdate of the law's
       // factor (prepare_curvature), which keeps that factor supernodal and positive
@@ -593,6 +611,18 @@ class NewtonSolve : public ElasticSolve {
         }
       }
     }
+  }
+
+  /// A minute's progress line in a long solve: where the frame's load is, how many
+  /// iterations it took so far, how far the iterate is from equilibrium.
+  void notice_iteration(double relative_residual) const {
+    std::ostringstream note;
+    note << "newton (" << law_.name << "): " << iterations_ << " iterations in this frame, "
+         << (ptc_shift_ > 0 ? "in the pseudo-transient continuation" : "at load fraction ");
+    if (ptc_shift_ == 0) note << load_fraction_;
+    note << ", relative residual " << std::setprecision(3) << relative_residual << ", smallest det F "
+         << smallest_det_f_;
+    progress_notice(note.str());
   }
 
   /// The rest centroid of the tet with the smallest det F at the last state assembled.
@@ -937,6 +967,8 @@ class NewtonSolve : public ElasticSolve {
   std::vector<std::pair<std::vector<std::pair<int, int>>, double>> sets_seen_;  ///< (set, merit) this Newton solve
   std::vector<std::pair<int, int>> set_key_;
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
+  double load_fraction_ = 0;  ///< the frame's load fraction the increment in progress aims at
+  ProgressNoticeClock notice_clock_{std::chrono::seconds(60)};  ///< a progress line a minute, at most
   // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
   double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0, largest_prescribed_left_ = 0;
   bool converged_ = false;
@@ -990,7 +1022,11 @@ ElasticSolveInfo newton_solve_info() {
             P::whole_number(prefix + "newton_max_iterations_per_frame", 0, 0, 1000,
                             "of the newton solver: 0, each frame to convergence; k > 0, a frame does at most k "
                             "Newton iterations from the last frame's iterate and accepts where it gets (its "
-                            "residual reported), the whole load at once")};
+                            "residual reported), the whole load at once"),
+            P::whole_number(prefix + "newton_blas_threads", 1, 1, 64,
+                            "of the newton solver: OpenBLAS threads under CHOLMOD's factorisation during its "
+                            "solve (a reference on a large mesh, where the factorisation is most of an "
+                            "iteration; every other timing stays single-threaded)")};
       },
       [](const ElasticBody& b, const Parameters& p, const std::string& prefix, const ElasticSolveContext&) {
         NewtonSolve::Options o;
@@ -998,6 +1034,7 @@ ElasticSolveInfo newton_solve_info() {
         o.tolerance = p.number(prefix + "newton_tolerance");
         o.load_steps = p.integer(prefix + "newton_load_steps");
         o.max_iterations_per_frame = p.integer(prefix + "newton_max_iterations_per_frame");
+        o.blas_threads = p.integer(prefix + "newton_blas_threads");
         if (o.max_iterations_per_frame > 0 && o.load_steps > 1)
           throw std::invalid_argument(prefix + "newton_max_iterations_per_frame " +
                                       std::to_string(o.max_iterations_per_frame) +

@@ -16,6 +16,7 @@
 #include "elastic_solve.h"
 #include "lame_parameters.h"
 #include "load_mapping.h"
+#include "progress_notice.h"
 #include "tet_element.h"
 #include "test_support.h"
 
@@ -241,9 +242,17 @@ TEST(NewtonSolve, ASnappingArchIsCarriedPastItsLimitPointToTheInvertedBranch) {
   const Eigen::Vector3d push(0, 0, -1), zero = Eigen::Vector3d::Zero();
   auto continued = testing::make_solve(body, {{"solver", "newton"}, {"newton_load_steps", 8}});
   Eigen::VectorXd u;
-  ElasticFrame(body, load, *continued).step({push}, {zero}, u);
+  std::vector<std::string> notices;  // what a user watching the run reads (the runner prints them)
+  {
+    const ScopedProgressNotices listen([&](const std::string& text) { notices.push_back(text); });
+    ElasticFrame(body, load, *continued).step({push}, {zero}, u);
+  }
   const nlohmann::json report = continued->report();
   EXPECT_EQ(report.at("pseudo_transient_continuations_last_solve").get<int>(), 1) << "the fold stops plain Newton";
+  ASSERT_EQ(notices.size(), 2u) << "the continuation's start and end (a fast solve: no minute's line)";
+  EXPECT_NE(notices[0].find("no equilibrium at load fraction"), std::string::npos) << notices[0];
+  EXPECT_NE(notices[0].find("a pseudo-transient continuation to the frame's end"), std::string::npos) << notices[0];
+  EXPECT_NE(notices[1].find("the continuation reached the frame's equilibrium in"), std::string::npos) << notices[1];
   EXPECT_LT(u(3 * crown_node(arch) + 2), -arch.h) << "snapped through: the crown below its supports";
   auto dynamic = make_implicit_euler_solve(body, "neo_hookean", 1e-12, 0.002);
   ElasticFrame steps(body, load, *dynamic);
