@@ -20,6 +20,8 @@
 #include "tet_element.h"
 #include "test_support.h"
 
+extern "C" int openblas_get_num_threads();  // libopenblas, linked by the models
+
 namespace tb {
 namespace {
 
@@ -361,6 +363,23 @@ TEST(NewtonSolve, TheLinearLawIsTheDirectSolveAndNeoHookeanMeetsItAtSmallLoad) {
   RecordProperty("neo_hookean_vs_linear_1e-4N", ::testing::PrintToString(small));
   RecordProperty("neo_hookean_vs_linear_1N", ::testing::PrintToString(large));
   EXPECT_GT(newton->last_iterations(), 2);
+}
+
+// Two OpenBLAS threads under CHOLMOD's factorisation (a reference on a large mesh)
+// change the answer by round-off alone, and leave OpenBLAS at one thread after, so
+// that no other timing runs on two.
+TEST(NewtonSolve, BlasThreadsChangeTheAnswerByRoundOffAloneAndAreOneAgainAfter) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
+  const BodyLoads loads(body, {containing_tet(h.fine_volume, {0, 0, 0.1}, "fine volume")});
+  Eigen::VectorXd one, two;
+  testing::make_solve(body, {{"solver", "newton"}})->solve(loads, {Eigen::Vector3d(0, 0, 1)}, one);
+  ASSERT_EQ(openblas_get_num_threads(), 1);
+  testing::make_solve(body, {{"solver", "newton"}, {"newton_blas_threads", 2}})
+      ->solve(loads, {Eigen::Vector3d(0, 0, 1)}, two);
+  EXPECT_EQ(openblas_get_num_threads(), 1) << "one thread again after the solve";
+  EXPECT_LT((two - one).norm(), 1e-12 * one.norm());
+  RecordProperty("relative_difference", ::testing::PrintToString((two - one).norm() / one.norm()));
 }
 
 }  // namespace
