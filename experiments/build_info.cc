@@ -50,7 +50,9 @@ nlohmann::json build_and_machine_info() {
   j["blas_core"] = blas_core_name();
   j["blas_core_pinned"] = std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "";
   j["hardware_threads"] = std::thread::hardware_concurrency();
-  j["blas_threads"] = 1;                             // tissuebench's main pins OpenBLAS and OpenMP to one thread
+  // tissuebench's main pins OpenBLAS and OpenMP to one thread; a Newton reference's
+  // newton_blas_threads (its report's blas_threads) may take more during its solve.
+  j["blas_threads"] = 1;
   j["peak_memory_mib"] = process_peak_memory_mib();  // since the process started or the case's reset
   char host[256] = {};
   gethostname(host, sizeof host - 1);

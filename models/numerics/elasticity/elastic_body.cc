@@ -9,6 +9,7 @@
 #include "stiffness_assembly.h"
 
 extern "C" void openblas_set_num_threads(int);  // libopenblas, linked explicitly
+extern "C" int openblas_get_num_threads();
 extern "C" void omp_set_num_threads(int);       // libgomp, via CHOLMOD
 extern "C" void omp_set_max_active_levels(int);
 
@@ -23,8 +24,12 @@ void use_one_thread() {
   limit_assembly_threads(1);
 }
 
-BlasThreads::BlasThreads(int threads) { openblas_set_num_threads(threads); }
-BlasThreads::~BlasThreads() { openblas_set_num_threads(1); }
+BlasThreads::BlasThreads(int threads) : previous_(openblas_get_num_threads()), threads_(threads) {
+  if (threads_ != previous_) openblas_set_num_threads(threads_);
+}
+BlasThreads::~BlasThreads() {
+  if (threads_ != previous_) openblas_set_num_threads(previous_);
+}
 
 ElasticBody::ElasticBody(const TetMesh& mesh, const Material& material, const std::vector<char>& clamped,
                          std::vector<PrescribedGroup> prescribed, const std::vector<NodeSpring>& springs)

@@ -27,14 +27,18 @@ namespace tb {
 void use_one_thread();
 
 /// OpenBLAS's threads (the dense kernels of CHOLMOD's supernodal factorisation) set
-/// to `threads` for this object's lifetime, one again after: a reference solve on a
-/// large mesh may take the machine's cores, every other timing stays single-threaded.
+/// to `threads` for this object's lifetime, the previous count again after: a
+/// reference solve on a large mesh may take the machine's cores while every other
+/// timing stays single-threaded. Nothing is called when the count does not change.
 class BlasThreads {
  public:
   explicit BlasThreads(int threads);
   ~BlasThreads();
   BlasThreads(const BlasThreads&) = delete;
   BlasThreads& operator=(const BlasThreads&) = delete;
+
+ private:
+  int previous_, threads_;
 };
 
 /// Nodes whose displacement is prescribed together each frame: every listed

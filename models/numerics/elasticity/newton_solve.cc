@@ -83,6 +83,7 @@ class NewtonSolve : public ElasticSolve {
     int max_iterations_per_frame = 0;  ///< > 0: a frame does at most this many iterations from the last iterate
     double time_step = 0;              ///< > 0: implicit Euler with this step, s (else static)
     int blas_threads = 1;              ///< OpenBLAS threads under CHOLMOD's factorisation, during a solve
+    double progress_seconds = 60;      ///< a progress line at most this often in a long solve (progress_notice.h)
   };
 
   NewtonSolve(const ElasticBody& body, const Options& o)
@@ -129,6 +130,8 @@ class NewtonSolve : public ElasticSolve {
     cholesky_.cholmod().print = 0;  // an indefinite tangent is handled (info()), not printed
     ldlt_.cholmod().print = 0;
     cholesky_.analyzePattern(K_free_);
+    notice_clock_ = ProgressNoticeClock(
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(o.progress_seconds)));
     u_converged_ = Eigen::VectorXd::Zero(body.dofs());
     f_converged_ = Eigen::VectorXd::Zero(body.free_dofs());
   }
@@ -246,6 +249,7 @@ class NewtonSolve : public ElasticSolve {
     nlohmann::json r = {{"solve", o_.time_step > 0 ? "newton, implicit Euler" : "newton"},
                         {"material_law", law_.name},
                         {"newton_tolerance", o_.tolerance},
+                        {"blas_threads", o_.blas_threads},
                         {"load_increments_last_solve", increments_},
                         {"increment_halvings_last_solve", halvings_},
                         {"newton_iterations_last_solve", iterations_},
@@ -522,8 +526,8 @@ class NewtonSolve : public ElasticSolve {
         }
       }
       if (it == max_iterations) return failed("no convergence in the iterations allowed");
-      ++iterations_;
       if (notice_clock_.due()) notice_iteration(r_norm / scale);
+      ++iterations_;
       // The contact's curvature: in the tangent itself where pseudo-time's shift must
       // make the whole of it definite; otherwise a low-rank downdate of the law's
       // factor (prepare_curvature), which keeps that factor supernodal and positive
@@ -613,11 +617,11 @@ class NewtonSolve : public ElasticSolve {
     }
   }
 
-  /// A minute's progress line in a long solve: where the frame's load is, how many
-  /// iterations it took so far, how far the iterate is from equilibrium.
+  /// A progress line in a long solve, before an iteration: how many the frame has
+  /// done, where its load is, how far the iterate is from equilibrium.
   void notice_iteration(double relative_residual) const {
     std::ostringstream note;
-    note << "newton (" << law_.name << "): " << iterations_ << " iterations in this frame, "
+    note << "newton (" << law_.name << "): " << iterations_ << " iterations done in this frame, "
          << (ptc_shift_ > 0 ? "in the pseudo-transient continuation" : "at load fraction ");
     if (ptc_shift_ == 0) note << load_fraction_;
     note << ", relative residual " << std::setprecision(3) << relative_residual << ", smallest det F "
@@ -968,7 +972,7 @@ class NewtonSolve : public ElasticSolve {
   std::vector<std::pair<int, int>> set_key_;
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
   double load_fraction_ = 0;  ///< the frame's load fraction the increment in progress aims at
-  ProgressNoticeClock notice_clock_{std::chrono::seconds(60)};  ///< a progress line a minute, at most
+  ProgressNoticeClock notice_clock_{std::chrono::seconds(60)};  ///< paces the progress lines (Options)
   // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
   double relative_residual_ = 0, largest_residual_ = 0, prescribed_left_ = 0, largest_prescribed_left_ = 0;
   bool converged_ = false;
@@ -1008,7 +1012,7 @@ ElasticSolveInfo newton_solve_info() {
         std::vector<std::string> laws;
         for (const MaterialLawInfo& l : material_laws()) laws.push_back(l.name);
         using P = ParameterSpec;
-        return std::vector<ParameterSpec>{
+        std::vector<ParameterSpec> specs{
             P::choice(prefix + "material_law", laws, "neo_hookean",
                       "of the newton solver: the material law (numerics/materials), with the Lame parameters of "
                       "the scenario's E and nu"),
@@ -1022,11 +1026,20 @@ ElasticSolveInfo newton_solve_info() {
             P::whole_number(prefix + "newton_max_iterations_per_frame", 0, 0, 1000,
                             "of the newton solver: 0, each frame to convergence; k > 0, a frame does at most k "
                             "Newton iterations from the last frame's iterate and accepts where it gets (its "
-                            "residual reported), the whole load at once"),
-            P::whole_number(prefix + "newton_blas_threads", 1, 1, 64,
-                            "of the newton solver: OpenBLAS threads under CHOLMOD's factorisation during its "
-                            "solve (a reference on a large mesh, where the factorisation is most of an "
-                            "iteration; every other timing stays single-threaded)")};
+                            "residual reported), the whole load at once")};
+        // A reference's own settings: not for a coarse solve inside a real-time frame,
+        // whose timing stays single-threaded and which never runs a minute.
+        if (prefix.empty()) {
+          specs.push_back(P::whole_number("newton_blas_threads", 1, 1, 64,
+                                          "of the newton solver: OpenBLAS threads under CHOLMOD's factorisation "
+                                          "during its solve (a reference on a large mesh, where the factorisation is "
+                                          "most of an iteration; the answer changes by round-off); 1 for a budgeted "
+                                          "frame"));
+          specs.push_back(P::number("newton_progress_seconds", 60, 0, 1e6,
+                                    "of the newton solver: a progress line on stderr at most this often in a "
+                                    "long solve (its iterations, load fraction, relative residual, smallest det F)"));
+        }
+        return specs;
       },
       [](const ElasticBody& b, const Parameters& p, const std::string& prefix, const ElasticSolveContext&) {
         NewtonSolve::Options o;
@@ -1034,7 +1047,15 @@ ElasticSolveInfo newton_solve_info() {
         o.tolerance = p.number(prefix + "newton_tolerance");
         o.load_steps = p.integer(prefix + "newton_load_steps");
         o.max_iterations_per_frame = p.integer(prefix + "newton_max_iterations_per_frame");
-        o.blas_threads = p.integer(prefix + "newton_blas_threads");
+        if (prefix.empty()) {
+          o.blas_threads = p.integer("newton_blas_threads");
+          o.progress_seconds = p.number("newton_progress_seconds");
+        }
+        if (o.max_iterations_per_frame > 0 && o.blas_threads > 1)
+          throw std::invalid_argument("newton_blas_threads " + std::to_string(o.blas_threads) +
+                                      ": a budgeted frame (newton_max_iterations_per_frame " +
+                                      std::to_string(o.max_iterations_per_frame) +
+                                      ") is timed as a real-time model's, on one thread");
         if (o.max_iterations_per_frame > 0 && o.load_steps > 1)
           throw std::invalid_argument(prefix + "newton_max_iterations_per_frame " +
                                       std::to_string(o.max_iterations_per_frame) +

@@ -16,8 +16,12 @@ ScopedProgressNotices::~ScopedProgressNotices() { current_sink = std::move(previ
 
 bool progress_notices_wanted() { return static_cast<bool>(current_sink); }
 
-void progress_notice(const std::string& text) {
-  if (current_sink) current_sink(text);
+void progress_notice(const std::string& text) noexcept {
+  // A line that cannot be printed is dropped: it must not stop the solve it reports on.
+  try {
+    if (current_sink) current_sink(text);
+  } catch (...) {
+  }
 }
 
 bool ProgressNoticeClock::due() {

@@ -30,8 +30,9 @@ class ScopedProgressNotices {
 /// True when a sink listens on this thread (a caller may skip composing the text).
 bool progress_notices_wanted();
 
-/// Hands `text` (one line, no newline) to this thread's sink, if any.
-void progress_notice(const std::string& text);
+/// Hands `text` (one line, no newline) to this thread's sink, if any; a sink that
+/// throws loses the line, not the caller's work.
+void progress_notice(const std::string& text) noexcept;
 
 /// At most one notice a period: due() is true once `period` has passed since the
 /// last time it was (or since construction), and only when a sink listens.

@@ -5,6 +5,7 @@
 // taken from the law's code), and the linear answer at small load.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -237,24 +238,68 @@ Eigen::Index crown_node(const ShallowArch& arch) {
 // (2 ms steps; its inertia keeps each step's tangent positive definite, so no step
 // needs a continuation) from rest under the same 1 N, the arch snapping through in
 // motion and settling, its numerical damping spent, in the inverted well.
+/// The progress lines of one solve with a line before every iteration and one
+/// continuation: the iterations numbered 0, 1, 2, ... up to the solve's count, the
+/// continuation's start and end around the iterations it took, the count its end
+/// line gives, and those iterations' lines saying they are in it.
+void check_progress_lines(const std::vector<std::string>& lines, int iterations) {
+  const std::string done_marker = " iterations done in this frame, ";
+  int counted = 0, started = -1, ended = -1, in_continuation = 0;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    const std::string& line = lines[k];
+    const size_t at = line.find(done_marker);
+    if (at != std::string::npos) {
+      EXPECT_EQ(line.substr(line.find("): ") + 3, at - line.find("): ") - 3), std::to_string(counted)) << line;
+      ++counted;
+      // Inside the continuation pseudo-time damps the steps (its last ones may be plain
+      // Newton's, at load fraction 1); outside it never does.
+      const bool says_continuation = line.find("in the pseudo-transient continuation") != std::string::npos;
+      const bool inside = started >= 0 && ended < 0;
+      if (!inside) {
+        EXPECT_FALSE(says_continuation) << line;
+      } else if (in_continuation == 0) {
+        EXPECT_TRUE(says_continuation) << line;
+      }
+      in_continuation += inside;
+      EXPECT_NE(line.find("relative residual "), std::string::npos) << line;
+      EXPECT_NE(line.find("smallest det F "), std::string::npos) << line;
+    } else if (line.find("no equilibrium at load fraction") != std::string::npos) {
+      EXPECT_EQ(started, -1) << "one continuation";
+      EXPECT_NE(line.find("a pseudo-transient continuation to the frame's end, up to 850 iterations"), std::string::npos)
+          << line;
+      started = static_cast<int>(k);
+    } else {
+      const std::string end_marker = "the continuation reached the frame's equilibrium in ";
+      ASSERT_NE(line.find(end_marker), std::string::npos) << "an unexpected line: " << line;
+      ended = static_cast<int>(k);
+      const std::string count = line.substr(line.find(end_marker) + end_marker.size());
+      EXPECT_EQ(count, std::to_string(in_continuation) + " iterations") << line;
+    }
+  }
+  EXPECT_EQ(counted, iterations) << "a line before each iteration";
+  EXPECT_GE(started, 0);
+  EXPECT_GT(ended, started);
+  EXPECT_GT(in_continuation, 0);
+}
+
 TEST(NewtonSolve, ASnappingArchIsCarriedPastItsLimitPointToTheInvertedBranch) {
   const ShallowArch arch;
   const ElasticBody body(arch.mesh, Material{1e6, 0.3, 1000}, arch.clamped(), arch.plane_strain());
   const BodyLoads load(body, {containing_tet(arch.mesh, arch.crown(), "arch")});
   const Eigen::Vector3d push(0, 0, -1), zero = Eigen::Vector3d::Zero();
-  auto continued = testing::make_solve(body, {{"solver", "newton"}, {"newton_load_steps", 8}});
+  // A progress line before every iteration (newton_progress_seconds 0), as a user
+  // watching a long run reads them (the runner prints them).
+  auto continued = testing::make_solve(
+      body, {{"solver", "newton"}, {"newton_load_steps", 8}, {"newton_progress_seconds", 0}});
   Eigen::VectorXd u;
-  std::vector<std::string> notices;  // what a user watching the run reads (the runner prints them)
+  std::vector<std::string> notices;
   {
     const ScopedProgressNotices listen([&](const std::string& text) { notices.push_back(text); });
     ElasticFrame(body, load, *continued).step({push}, {zero}, u);
   }
   const nlohmann::json report = continued->report();
   EXPECT_EQ(report.at("pseudo_transient_continuations_last_solve").get<int>(), 1) << "the fold stops plain Newton";
-  ASSERT_EQ(notices.size(), 2u) << "the continuation's start and end (a fast solve: no minute's line)";
-  EXPECT_NE(notices[0].find("no equilibrium at load fraction"), std::string::npos) << notices[0];
-  EXPECT_NE(notices[0].find("a pseudo-transient continuation to the frame's end"), std::string::npos) << notices[0];
-  EXPECT_NE(notices[1].find("the continuation reached the frame's equilibrium in"), std::string::npos) << notices[1];
+  check_progress_lines(notices, report.at("newton_iterations_last_solve").get<int>());
   EXPECT_LT(u(3 * crown_node(arch) + 2), -arch.h) << "snapped through: the crown below its supports";
   auto dynamic = make_implicit_euler_solve(body, "neo_hookean", 1e-12, 0.002);
   ElasticFrame steps(body, load, *dynamic);
@@ -369,17 +414,41 @@ TEST(NewtonSolve, TheLinearLawIsTheDirectSolveAndNeoHookeanMeetsItAtSmallLoad) {
 // change the answer by round-off alone, and leave OpenBLAS at one thread after, so
 // that no other timing runs on two.
 TEST(NewtonSolve, BlasThreadsChangeTheAnswerByRoundOffAloneAndAreOneAgainAfter) {
+  use_one_thread();  // as tissuebench's main does
   const HybridMesh& h = testing::scenario_mesh("cube-pull");
   const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
   const BodyLoads loads(body, {containing_tet(h.fine_volume, {0, 0, 0.1}, "fine volume")});
+  // OpenBLAS's thread count as the solve's iterations see it (a progress line each).
+  std::vector<int> during;
+  const ScopedProgressNotices listen([&](const std::string&) { during.push_back(openblas_get_num_threads()); });
   Eigen::VectorXd one, two;
-  testing::make_solve(body, {{"solver", "newton"}})->solve(loads, {Eigen::Vector3d(0, 0, 1)}, one);
-  ASSERT_EQ(openblas_get_num_threads(), 1);
-  testing::make_solve(body, {{"solver", "newton"}, {"newton_blas_threads", 2}})
-      ->solve(loads, {Eigen::Vector3d(0, 0, 1)}, two);
+  testing::make_solve(body, {{"solver", "newton"}, {"newton_progress_seconds", 0}})
+      ->solve(loads, {Eigen::Vector3d(0, 0, 1)}, one);
+  ASSERT_FALSE(during.empty());
+  EXPECT_EQ(*std::max_element(during.begin(), during.end()), 1);
+  during.clear();
+  auto two_threads =
+      testing::make_solve(body, {{"solver", "newton"}, {"newton_blas_threads", 2}, {"newton_progress_seconds", 0}});
+  two_threads->solve(loads, {Eigen::Vector3d(0, 0, 1)}, two);
+  ASSERT_FALSE(during.empty());
+  EXPECT_EQ(*std::min_element(during.begin(), during.end()), 2) << "two threads through the solve";
   EXPECT_EQ(openblas_get_num_threads(), 1) << "one thread again after the solve";
+  EXPECT_EQ(two_threads->report().at("blas_threads").get<int>(), 2);
   EXPECT_LT((two - one).norm(), 1e-12 * one.norm());
   RecordProperty("relative_difference", ::testing::PrintToString((two - one).norm() / one.norm()));
+}
+
+TEST(NewtonSolve, ABudgetedFrameRefusesBlasThreads) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
+  try {
+    testing::make_solve(body,
+                        {{"solver", "newton"}, {"newton_max_iterations_per_frame", 1}, {"newton_blas_threads", 2}});
+    FAIL() << "a budgeted frame with two BLAS threads was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("is timed as a real-time model's, on one thread"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
