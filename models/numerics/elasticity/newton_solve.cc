@@ -6,8 +6,8 @@
 // last converged state (forces and prescribed displacements alike), a backtracking
 // line search on the residual, and increments halved when Newton fails (an element
 // the law cannot take, an indefinite tangent, no decrease, too many iterations);
-// where 12 halvings still fail (a limit point or a bifurcation of the path: the
-// tangent indefinite next to a converged state), the frame is finished by
+// where 12 halvings (newton_max_halvings) still fail (a limit point or a bifurcation
+// of the path: the tangent indefinite next to a converged state), the frame is finished by
 // pseudo-transient continuation (Kelley and Keyes 1998; below) from the last
 // converged state under the frame's whole load, to the equilibrium the body snaps to. The
 // one-process nonlinear answer on the paper-sized meshes, beside the distributed
@@ -79,7 +79,7 @@ class NewtonSolve : public ElasticSolve {
     double tolerance = 1e-10;  ///< |R_free| <= tolerance * the forces in play, or |du| <= tolerance |u|
     int max_iterations = 50;   ///< per increment, before it is halved
     int load_steps = 1;        ///< increments per solve (halved on failure)
-    int max_halvings = 12;
+    int max_halvings = 12;     ///< of one frame's increments, before the pseudo-transient continuation
     int max_iterations_per_frame = 0;  ///< > 0: a frame does at most this many iterations from the last iterate
     double time_step = 0;              ///< > 0: implicit Euler with this step, s (else static)
     int blas_threads = 1;              ///< OpenBLAS threads under CHOLMOD's factorisation, during a solve
@@ -176,7 +176,10 @@ class NewtonSolve : public ElasticSolve {
         increment /= 2;
         if (++halvings_ > o_.max_halvings) {
           // The increment is down to 2^-max_halvings of the frame and still fails: a
-          // fold or a bifurcation of the quasi-static path. With spheres, a node's
+          // fold or a bifurcation of the quasi-static path (located to that fraction of
+          // the frame; with fewer halvings the continuation starts sooner, from farther
+          // before it, which on a large mesh saves most of a fold frame's iterations:
+          // docs/equations.md, "Crossing a fold"). With spheres, a node's
           // contact force reaches 0 where the body without it would be inside the
           // sphere (no equilibrium nearby, docs/equations.md); under dead loads, the
           // tangent turns indefinite next to a converged state (a limit point or a
@@ -251,6 +254,7 @@ class NewtonSolve : public ElasticSolve {
                         {"newton_tolerance", o_.tolerance},
                         {"blas_threads", o_.blas_threads},
                         {"load_increments_last_solve", increments_},
+                        {"newton_max_halvings", o_.max_halvings},
                         {"increment_halvings_last_solve", halvings_},
                         {"newton_iterations_last_solve", iterations_},
                         {"smallest_det_f_last_solve", smallest_det_f_solution_},
@@ -1023,6 +1027,10 @@ ElasticSolveInfo newton_solve_info() {
             P::whole_number(prefix + "newton_load_steps", 1, 1, 10000,
                             "of the newton solver: load increments per frame from the last converged state "
                             "(each halved when Newton fails)"),
+            P::whole_number(prefix + "newton_max_halvings", 12, 0, 30,
+                            "of the newton solver: halvings of a failing load increment before a pseudo-transient "
+                            "continuation from the last converged state finishes the frame (12 locates a fold to "
+                            "2^-12 of the frame; fewer start the continuation sooner, from farther before the fold)"),
             P::whole_number(prefix + "newton_max_iterations_per_frame", 0, 0, 1000,
                             "of the newton solver: 0, each frame to convergence; k > 0, a frame does at most k "
                             "Newton iterations from the last frame's iterate and accepts where it gets (its "
@@ -1046,6 +1054,7 @@ ElasticSolveInfo newton_solve_info() {
         o.law = p.choice(prefix + "material_law");
         o.tolerance = p.number(prefix + "newton_tolerance");
         o.load_steps = p.integer(prefix + "newton_load_steps");
+        o.max_halvings = p.integer(prefix + "newton_max_halvings");
         o.max_iterations_per_frame = p.integer(prefix + "newton_max_iterations_per_frame");
         if (prefix.empty()) {
           o.blas_threads = p.integer("newton_blas_threads");
