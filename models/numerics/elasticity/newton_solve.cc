@@ -262,6 +262,7 @@ class NewtonSolve : public ElasticSolve {
                          {smallest_det_f_where_.x(), smallest_det_f_where_.y(), smallest_det_f_where_.z()}}};
     r["pseudo_transient_continuations_last_solve"] = rescues_;
     r["pseudo_transient_continuations"] = rescues_total_;
+    r["pseudo_time_raised_for_inverting_steps"] = pseudo_time_raised_;
     if (spheres_) r["active_set_cycles_detected"] = active_set_cycles_;
     if (o_.max_iterations_per_frame > 0) {
       r["newton_max_iterations_per_frame"] = o_.max_iterations_per_frame;
@@ -607,6 +608,19 @@ class NewtonSolve : public ElasticSolve {
         }
         if (accepted) break;
       }
+      if (!accepted && pseudo_transient && every_step_inverts && ptc_shift_ < kPseudoTimeLargest) {
+        // Even 1/256 of pseudo-time's step leaves the law undefined: the step is still
+        // too much Newton's (near a fold its soft mode's part is huge). Damp harder and
+        // take the iteration again from the same u, as Levenberg-Marquardt raises its
+        // damping after a rejected step (Nocedal and Wright 2006, section 10.3): the
+        // next ladder starts at 4x the shift that failed.
+        ptc_shift_ = std::max(16 * ptc_shift_, kPseudoTimeStart);
+        ++pseudo_time_raised_;
+        if (!assemble(u, true)) return failed("an accepted iterate inverts a tet");
+        residual(f, r);
+        if (contact_) merit = contact_terms(u, r);
+        continue;
+      }
       if (!accepted)
         return failed(every_step_inverts ? "every step of the line search inverts a tet"
                                          : "the line search finds no step that lowers the residual");
@@ -670,6 +684,9 @@ class NewtonSolve : public ElasticSolve {
   /// V / 4 added to the tangent's diagonal); the
   /// smallest nonzero factor tried.
   static constexpr double kPseudoTimeStart = 1, kPseudoTimeSmallest = 1e-6;
+  /// The largest factor a step that inverts a tet raises it to (a step of about
+  /// -R / (1e6 V): a gradient-flow step far below a cell's size).
+  static constexpr double kPseudoTimeLargest = 1e6;
   /// The relative KKT residual at which pseudo-time hands over to plain Newton.
   static constexpr double kPseudoTimeLoose = 1e-6;
   /// Iterations a pseudo-transient continuation may take.
@@ -975,6 +992,7 @@ class NewtonSolve : public ElasticSolve {
   std::vector<std::pair<std::vector<std::pair<int, int>>, double>> sets_seen_;  ///< (set, merit) this Newton solve
   std::vector<std::pair<int, int>> set_key_;
   int iterations_ = 0, increments_ = 0, halvings_ = 0;
+  int pseudo_time_raised_ = 0;  ///< over the run: continuation steps redone damped harder, every fraction inverting
   double load_fraction_ = 0;  ///< the frame's load fraction the increment in progress aims at
   ProgressNoticeClock notice_clock_{std::chrono::seconds(60)};  ///< paces the progress lines (Options)
   // A budgeted frame's state, what it reports, and its work vectors (sized at the first frame).
