@@ -228,6 +228,17 @@ def score_case(exp, scenario, name, ref_name, beads):
     }
 
 
+def folds_crossed(case):
+    """How many times the case's Newton solve crossed a fold of its load path by
+    pseudo-transient continuation over the run (run.json's model report,
+    pseudo_transient_continuations; 0 where not reported). Past a fold the load may have
+    several equilibria and the continuation's start picks one (docs/equations.md,
+    'Crossing a fold sooner, and which equilibrium'): a reference that crossed one is
+    flagged beside its scenario."""
+    report = case["run"].get("model_report", {})
+    return int(report.get("fine_solve", report).get("pseudo_transient_continuations", 0) or 0)
+
+
 def accuracy_key(role):
     """What a scenario ranks by: the beads on the Truth Cube, else the surface field."""
     return "bead_rms_mm" if role.startswith(TRUTH_CUBE_ROLE_PREFIX) else "rel_l2"
@@ -383,6 +394,13 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         # Only the ranked cases' times place a model in a cell; the references' are not ranked.
         busy = busy_cases({n: c for n, c in exp.scenario(scenario).items() if not exp.is_reference(n)})
         flag = f" (times of {len(busy)} case{'s' if len(busy) > 1 else ''} from a busy machine)" if busy else ""
+        folds = folds_crossed(exp.scenario(scenario)[ref_name])
+        if folds:
+            flag += f" (its reference crossed {folds} fold{'s' if folds > 1 else ''}: one equilibrium of possibly several)"
+            notes.append(f"- {role}: {ref_name} crossed {folds} fold{'s' if folds > 1 else ''} of its load path by "
+                         "pseudo-transient continuation; past a fold the load may have several equilibria and the "
+                         "continuation's start picks one (docs/equations.md, 'Crossing a fold sooner, and which "
+                         "equilibrium'): the ranking holds for that equilibrium")
         row = [role + flag, ref["model"] + " (" + ("beads" if key == "bead_rms_mm" else "field") + ")"]
         for budget in BUDGETS_MS:
             row.append(budget_cell(scores, key, budget))

@@ -142,6 +142,22 @@ class Leaderboard(unittest.TestCase):
             board = [r[0] for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]]
             self.assertEqual(board, ["cube_pull_disc", "torus_grasp (times of 1 case from a busy machine)"])
 
+    def test_a_reference_that_crossed_a_fold_is_flagged_beside_its_scenario(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            path = os.path.join(exp, "grasp", "reference", "run.json")
+            with open(path) as f:
+                run = json.load(f)
+            run["model_report"] = {"fine_solve": {"pseudo_transient_continuations": 2}}
+            with open(path, "w") as f:
+                json.dump(run, f)
+            leaderboard.make(exp, tmp, None, figures=False)
+            board = [r[0] for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]]
+            self.assertEqual(board, ["cube_pull_disc",
+                                     "torus_grasp (its reference crossed 2 folds: one equilibrium of possibly several)"])
+            with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
+                self.assertIn("- torus_grasp: reference crossed 2 folds of its load path", f.read())
+
     def test_a_case_whose_latest_run_failed_is_not_scored_on_its_earlier_folder(self):
         # The runner replaces a case's folder only on success: a failed rerun leaves the
         # earlier folder beside <case>.failed.json. The case counts as failed.
