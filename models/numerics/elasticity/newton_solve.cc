@@ -178,8 +178,9 @@ class NewtonSolve : public ElasticSolve {
           // The increment is down to 2^-max_halvings of the frame and still fails: a
           // fold or a bifurcation of the quasi-static path (located to that fraction of
           // the frame; with fewer halvings the continuation starts sooner, from farther
-          // before it, which on a large mesh saves most of a fold frame's iterations:
-          // docs/equations.md, "Crossing a fold"). With spheres, a node's
+          // before it: cheaper, but where the load has several equilibria past the fold
+          // the start picks one, docs/equations.md, "Crossing a fold sooner, and which
+          // equilibrium"). With spheres, a node's
           // contact force reaches 0 where the body without it would be inside the
           // sphere (no equilibrium nearby, docs/equations.md); under dead loads, the
           // tangent turns indefinite next to a converged state (a limit point or a

@@ -519,6 +519,19 @@ TEST(NewtonSolve, BlasThreadsChangeTheAnswerByRoundOffAloneAndAreOneAgainAfter) 
   RecordProperty("relative_difference", ::testing::PrintToString((two - one).norm() / one.norm()));
 }
 
+TEST(NewtonSolve, HalvingsOutsideTheirRangeAreRefusedByName) {
+  const HybridMesh& h = testing::scenario_mesh("cube-pull");
+  const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
+  for (const int halvings : {-1, 31}) {
+    try {
+      testing::make_solve(body, {{"solver", "newton"}, {"newton_max_halvings", halvings}});
+      FAIL() << "newton_max_halvings " << halvings << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("newton_max_halvings"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(NewtonSolve, ABudgetedFrameRefusesBlasThreads) {
   const HybridMesh& h = testing::scenario_mesh("cube-pull");
   const ElasticBody body(h.fine_volume, kMaterial, testing::kCubeBottom.select(h.fine_volume.V));
