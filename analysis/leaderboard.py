@@ -10,7 +10,9 @@ Reads only the results tree (results_index.py): the cases, their models and
 parameters, the scenario roles and the reference come from experiment.json and each
 case's run.json, so a model added to the suite (or run on it with --model) gets its
 rows without an edit here. Writes OUT/tables/suite_scores.{md,csv} (every case, every
-metric), OUT/tables/leaderboard.{md,csv} (per scenario and budget) and
+metric), OUT/tables/leaderboard.{md,csv} (per scenario and budget),
+OUT/tables/leaderboard_converged.{md,csv} (the same, ranked against the converged
+field of the reference study where it has one: converged_fields.py) and
 OUT/figures/suite_<role>.png (time per frame against error, the Pareto front drawn).
 docs/suite.md says what each number means.
 """
@@ -24,6 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import converged_fields  # noqa: E402
 import metrics  # noqa: E402
 import results_index  # noqa: E402
 import truth_cube  # noqa: E402
@@ -198,8 +201,9 @@ class Beads:
         return truth_cube.errors(*beads, self.grid)["rms"]
 
 
-def score_case(exp, scenario, name, ref_name, beads):
-    """Every metric of one case (docs/suite.md)."""
+def score_case(exp, scenario, name, ref_name, beads, converged=None):
+    """Every metric of one case (docs/suite.md); converged: the scenario's converged field
+    (converged_fields.ConvergedField) or None."""
     cases = exp.scenario(scenario)
     case, ref = cases[name], cases[ref_name]
     transient_ref = cases.get(exp.transient_reference) if exp.transient_reference else None
@@ -217,6 +221,7 @@ def score_case(exp, scenario, name, ref_name, beads):
     return {
         "case": name, "model": run["model"],
         "rel_l2": rel_l2, "max_error_mm": max_error * 1000,
+        "rel_l2_converged": converged.error(case) if converged is not None else float("nan"),
         "probe_error_mm": probe_err,
         "tool_force_error_n": force_abs, "tool_force_error_rel": force_rel,
         "bead_rms_mm": beads.rms_mm(case) if beads is not None else float("nan"),
@@ -348,13 +353,18 @@ def add_cases_from(exp, other_results, ref_name):
     return added
 
 
-def make(results, out, data_flag, figures=True, with_results=None, reference_errors=REFERENCE_ERRORS):
+def make(results, out, data_flag, figures=True, with_results=None, reference_errors=REFERENCE_ERRORS,
+         converged=converged_fields.STUDY):
     """Writes the tables (and figures); returns {role: [scores]}. with_results: a
     second results tree whose cases are scored beside the first's (add_cases_from).
     reference_errors: the file of each scenario's reference and its estimated
-    discretisation error (read_reference_errors), carried beside each scenario."""
+    discretisation error (read_reference_errors), carried beside each scenario.
+    converged: the reference study's results (converged_fields.read), whose finest field
+    per scenario every case is also scored against; None: not scored so."""
     exp = results_index.Experiment(results)
     declared = read_reference_errors(reference_errors)
+    fields = converged_fields.read(converged) if converged else {}
+    converged_rows = []
     error_notes = []
     ref_name = exp.require_reference()
     added = add_cases_from(exp, with_results, ref_name) if with_results else set()
@@ -374,7 +384,7 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
             continue
         scores = []
         for name in exp.scenario(scenario):
-            s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None)
+            s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None, fields.get(role))
             # The transient and the law references are references too: scored, never ranked.
             s["is_reference"] = exp.is_reference(name)
             scores.append(s)
@@ -385,7 +395,8 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                       f"tool force error {sig(s['tool_force_error_n'])} N, median {fmt(s['median_ms'])} ms "
                       f"(the committed cases: results/tables/suite_scores.md)")
         for s in scores:
-            score_rows.append([role, s["case"], s["model"], sig(s["rel_l2"]), sig(s["max_error_mm"]),
+            score_rows.append([role, s["case"], s["model"], sig(s["rel_l2"]), sig(s["rel_l2_converged"]),
+                               sig(s["max_error_mm"]),
                                sig(s["probe_error_mm"]), sig(s["tool_force_error_n"]), sig(s["tool_force_error_rel"]),
                                sig(s["bead_rms_mm"]), sig(s["transient_rel"]), sig(s["transient_max_mm"]),
                                fmt(s["median_ms"]), fmt(s["p95_ms"]), fmt(s["setup_ms"]),
@@ -406,6 +417,17 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
             row.append(budget_cell(scores, key, budget))
         row.append(reference_error_text(declared.get(role)))
         board_rows.append(row)
+        if role in fields and math.isfinite(ref["rel_l2_converged"]):
+            field = fields[role]
+            # The study's own estimate of that run's error, where the declared file names the same run.
+            entry = declared.get(role, {}).get("converged", {})
+            same_run = (entry.get("order"), entry.get("level")) == field.key
+            own = entry.get("field_error") if same_run else None
+            own_text = (f" (its own est. {sig(own)})" if own is not None else
+                        " (its own error not estimated: one level of its order)" if same_run else "")
+            converged_rows.append([role, field.label + own_text]
+                                  + [budget_cell(scores, "rel_l2_converged", b) for b in BUDGETS_MS]
+                                  + [sig(ref["rel_l2_converged"])])
         if role in declared:
             error_notes.append(f"- {role}: {ref_name}'s estimated discretisation error (relative L2 of the field): "
                                f"{reference_error_text(declared[role])}")
@@ -425,7 +447,8 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                       "(docs/reference_convergence.md, 'Every suite scenario'):\n" + "\n".join(error_notes)
                       if error_notes else "")
     write_table(tables, "suite_scores",
-                ["role", "case", "model", "rel L2 vs reference", "max error (mm)", "probe error (mm)",
+                ["role", "case", "model", "rel L2 vs reference", "rel L2 vs converged", "max error (mm)",
+                 "probe error (mm)",
                  "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "transient error (rel)",
                  "transient max error (mm)", "median (ms)", "p95 (ms)",
                  "setup (ms)", "peak memory (MiB)", "frames", "settled"],
@@ -442,6 +465,20 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                 "discretisation error of the reference case's field (relative L2 against the converged field of the "
                 "run named, docs/reference_convergence.md, 'Every suite scenario'): errors below it rank models "
                 "on what the reference cannot resolve. " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
+    write_table(tables, "leaderboard_converged",
+                ["scenario (role)", "converged field (finest run of the reference study)"]
+                + [f"best within {b:g} ms" for b in BUDGETS_MS] + ["the reference case's own"],
+                converged_rows,
+                "The same cells ranked by the relative L2 of the observed surface against the converged field: the "
+                "finest run of the reference study (Newton neo-Hookean, the scenario refined, P1 or P2; "
+                "docs/reference_convergence.md, 'Every suite scenario'; analysis/converged_fields.py) at the vertices "
+                "of the suite's mesh, with that run's own estimated error. The last column is the suite's reference "
+                "case (P1 on the suite's mesh) against it: its discretisation error, which every fine-mesh model of "
+                "the scenario carries too. Scenarios the study did not refine (the 10 000-vertex cube, the liver's "
+                "pads) have no row; on the Truth Cube the beads still rank (leaderboard.md). On the torus and the L-block "
+                "the suite's grasp holds one surface vertex, the refined levels' the 5 mm patch "
+                "(docs/reference_convergence.md, 'The grasps'): their converged field is the patch's, and a model's "
+                "distance from it includes the point hold's.")
     return everything
 
 
@@ -457,6 +494,10 @@ def update_readme(path, tables_dir):
         raise ResultsError(f"{path}: no leaderboard markers ({README_BEGIN} ... {README_END})")
     with open(os.path.join(tables_dir, "leaderboard.md")) as f:
         table = f.read().strip()
+    converged = os.path.join(tables_dir, "leaderboard_converged.md")
+    if os.path.isfile(converged):
+        with open(converged) as f:
+            table += "\n\n**Against the converged field** (the continuum's answer of the law, not the suite's mesh's):\n\n" + f.read().strip()
     head, rest = text.split(README_BEGIN, 1)
     _, tail = rest.split(README_END, 1)
     with open(path, "w") as f:

@@ -35,7 +35,6 @@ import csv
 import json
 import math
 import os
-import re
 import sys
 
 import numpy as np
@@ -45,14 +44,11 @@ sys.path.insert(0, HERE)
 import leaderboard  # noqa: E402
 import metrics  # noqa: E402
 import results_index  # noqa: E402
-from reference_convergence import match_vertices  # noqa: E402
+from converged_fields import field_at_level0, finest_key, level0_vertices, parse, study_runs  # noqa: E402
 from results_index import ResultsError  # noqa: E402
 from table_io import fmt, write_table  # noqa: E402
 
-NAME = re.compile(r"^sref-(.+)-L(\d+)-p([12])$")
 ASSUMED_ORDER = {1: 2.0, 2: 3.0}
-NEARLY_INCOMPRESSIBLE = 0.49  # Poisson's ratio from which P1 locks (the Truth Cube: 0.499)
-MATCH_TOLERANCE = 1e-9  # m: level-0 vertices at the same coordinates on every level
 CUBE_LOAD_POINT = np.array([0.0, 0.0, 0.1])
 # Roles with a tool whose reaction is a QoI, with a probe, on the Truth Cube.
 TOOL_ROLES = ("truth_cube", "liver_grasp", "torus_grasp", "l_block_grasp", "cube_palpation")
@@ -69,12 +65,6 @@ QOI_LABELS = {"load_uz_mm": "load-point u_z (mm)", "tool_fz_n": "tool force z (N
               "bead_rms_mm": "bead RMS vs CT (mm)", "bulge_mm": "bulge (mm)"}
 
 
-def parse(name):
-    """(role, level, order) of a scenario name, or None."""
-    m = NAME.match(name)
-    return None if not m else (m.group(1).replace("-", "_"), int(m.group(2)), int(m.group(3)))
-
-
 def dofs_of(case):
     """The case's dofs: fem_distributed reports them; the serial P1 FEM has three per fine node."""
     report = case["run"].get("model_report", {})
@@ -83,26 +73,10 @@ def dofs_of(case):
     return 3 * int(case["run"]["mesh"]["fine_nodes"])
 
 
-def level0_rows(level0, observed, folder):
-    """The rows of `observed` (read_displacements) at the level-0 vertices `level0`
-    (ids, rest): matched by coordinates, or, in files without them (a third-party
-    mesh), by index: a refined surface keeps the level-0 vertices first, at the same
-    indices (meshing/surface_subdivision.h), and an order-2 run has its level's."""
-    (ids0, rest0), (ids, rest, _) = level0, observed
-    if rest0 is not None and rest is not None:
-        return match_vertices(rest0, rest, MATCH_TOLERANCE)
-    row = {v: k for k, v in enumerate(ids)}
-    missing = [v for v in ids0 if v not in row]
-    if missing:
-        raise ResultsError(f"{folder}/top_surface.csv: no level-0 vertex {missing[0]} (another surface?)")
-    return np.array([row[v] for v in ids0], dtype=int)
-
-
 def qois(role, case, level0, beads):
     """The observed field at the level-0 vertices (#V0 x 3, m) and the scalar QoIs."""
-    observed = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
-    u = observed[2]
-    u0 = u[level0_rows(level0, observed, case["folder"])]
+    u = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))[2]
+    u0 = field_at_level0(case, level0)
     rest0 = level0[1]
     q = {}
     if role.startswith("cube_") and role != "cube_palpation":  # the sphere moves off the top centre
@@ -150,34 +124,14 @@ def richardson(values, dofs, order):
     return errors, p, how
 
 
-def nearly_incompressible(case):
-    return case["run"]["scenario_resolved"]["material"]["poisson_ratio"] >= NEARLY_INCOMPRESSIBLE
-
-
-def finest_key(rows, runs):
-    """The run taken as the converged field: the highest level, P2 before P1 on it. The
-    level sets what the surface resolves (a disc load's or a grasp's held vertices: the
-    grasps hold 1 vertex on the torus and the L-block at level 0, 5 at level 1), which no
-    element order recovers. Nearly incompressible (the Truth Cube): P2 first, then the
-    level, as P1 locks there (the doc's locking comparison)."""
-    if nearly_incompressible(runs[(1, 0)]):
-        return max(rows, key=lambda k: (k[0], k[1]))
-    return max(rows, key=lambda k: (k[1], k[0]))
-
-
 class Study:
     """{role: {(order, level): case}} of the results, with each role's QoIs."""
 
     def __init__(self, root, data_flag):
-        exp_root = os.path.join(root, "suite_reference_convergence")
-        runs = results_index.load_experiment(exp_root)
-        self.cases = {}
-        for scenario, cases in runs.items():
-            p = parse(scenario)
-            if p and cases:
-                self.cases.setdefault(p[0], {})[(p[2], p[1])] = next(iter(cases.values()))
+        self.cases = study_runs(root)
         if not self.cases:
-            raise ResultsError(f"{exp_root}: no sref-* results (run scripts/suite_reference_convergence)")
+            raise ResultsError(f"{os.path.join(root, 'suite_reference_convergence')}: no sref-* results "
+                               "(run scripts/suite_reference_convergence)")
         self.process = {}  # (scenario, case): row of cases.csv (the last run of it)
         path = os.path.join(root, "cases.csv")
         if os.path.isfile(path):
@@ -189,9 +143,7 @@ class Study:
     def role_rows(self, role):
         """Every run of the role, with its QoIs, changes against the finest and estimated errors."""
         runs = self.cases[role]
-        if (1, 0) not in runs:
-            raise ResultsError(f"{role}: no level-0 P1 run (the suite's mesh): the level-0 vertices are its")
-        level0 = metrics.read_displacements(os.path.join(runs[(1, 0)]["folder"], "top_surface.csv"))[:2]
+        level0 = level0_vertices(runs, role)
         rows = {}
         for key, case in runs.items():
             u0, q = qois(role, case, level0, self.beads)

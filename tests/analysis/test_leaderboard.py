@@ -276,6 +276,71 @@ class Leaderboard(unittest.TestCase):
         self.assertEqual(leaderboard.budget_cell(scores, "rel_l2", 0.002), "none fits (condensed 0.189 at 0.003 ms)")
         self.assertIsNone(leaderboard.near_miss(scores, "rel_l2", 0.001, None))
 
+    def test_every_case_is_also_scored_against_the_reference_study_s_finest_field(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            # The reference study: cube_pull_disc at levels 0 and 1 (P1) and level 0 (P2); the
+            # finest (level 1) has 1.25 times the suite's reference field at the level-0 vertices,
+            # and one vertex of its own; the torus has a level-0 run only.
+            study = os.path.join(tmp, "sref")
+            sref = os.path.join(study, "suite_reference_convergence")
+            for scenario, scale, extra in (("sref-cube-pull-disc-L0-p1", 1.0, False),
+                                           ("sref-cube-pull-disc-L0-p2", 1.1, False),
+                                           ("sref-cube-pull-disc-L1-p1", 1.25, True),
+                                           ("sref-torus-grasp-L0-p1", 2.0, False)):
+                write_case(sref, scenario, "neo-p1", "fem", scale * U_REF, 100.0)
+                d = os.path.join(sref, scenario, "neo-p1")
+                if extra:
+                    with open(os.path.join(d, "top_surface.csv"), "a") as f:
+                        f.write("4,0.5,0.5,1,0,0,0.009\n")
+                with open(os.path.join(d, "run.json")) as f:
+                    run = json.load(f)
+                run["scenario_resolved"]["material"] = {"poisson_ratio": 0.45}
+                with open(os.path.join(d, "run.json"), "w") as f:
+                    json.dump(run, f)
+            with open(os.path.join(sref, "experiment.json"), "w") as f:
+                json.dump({"name": "suite_reference_convergence", "reference": "", "scenarios": [
+                    {"name": n, "cases": ["neo-p1"]} for n in sorted(os.listdir(sref)) if n.startswith("sref-")]}, f)
+            errors = os.path.join(tmp, "errors.json")
+            with open(errors, "w") as f:  # the study's estimate of its finest run's error, named by that run
+                json.dump({"roles": {"cube_pull_disc": {"field_error": 0.3, "converged": {
+                    "order": 1, "level": 1, "field_error": 0.0123}}, "torus_grasp": {"field_error": 0.1, "converged": {
+                        "order": 1, "level": 2, "field_error": 0.02}}}}, f)
+            scores = leaderboard.make(exp, tmp, None, figures=False, reference_errors=errors, converged=study)
+            pull = {s["case"]: s for s in scores["cube_pull_disc"]}
+            # fem-linear is 0.8 of the suite's reference, so 0.8 / 1.25 = 0.64 of the finest: 0.36 off it.
+            self.assertAlmostEqual(pull["fem-linear"]["rel_l2_converged"], 0.36)
+            self.assertAlmostEqual(pull["reference"]["rel_l2_converged"], 0.2)
+            self.assertAlmostEqual(pull["vbd"]["rel_l2_converged"], 1 - 0.99 / 1.25)
+            torus = {s["case"]: s for s in scores["torus_grasp"]}
+            self.assertAlmostEqual(torus["embedded"]["rel_l2_converged"], 0.75)  # 0.5 against 2
+            rows = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard_converged.csv"))[1:]}
+            # 16 ms: vbd (60 ms) misses it, the most accurate that fits is fem-linear (0.36) ... unless a
+            # faster one is closer: embedded is 0.6, pbd 0.76.
+            self.assertEqual(rows["cube_pull_disc"][1], "P1 L1 (its own est. 0.0123)")
+            self.assertEqual(rows["cube_pull_disc"][2:6], ["embedded 0.6", "embedded 0.6", "fem-linear 0.36", "0.2"])
+            self.assertEqual(rows["torus_grasp"][1], "P1 L0")  # the file's estimate is of another run (P1 L2)
+            header = read_rows(os.path.join(tmp, "tables", "suite_scores.csv"))[0]
+            self.assertEqual(header[3:5], ["rel L2 vs reference", "rel L2 vs converged"])
+            # Without a study, or on other vertices (another mesh), no number: never a wrong one.
+            scores = leaderboard.make(exp, tmp, None, figures=False, converged=None)
+            self.assertTrue(all(np.isnan(s["rel_l2_converged"]) for s in scores["cube_pull_disc"]))
+            self.assertEqual(read_rows(os.path.join(tmp, "tables", "leaderboard_converged.csv"))[1:], [])
+            other = write_suite(os.path.join(tmp, "other"))
+            for case in os.listdir(os.path.join(other, "pull")):  # every case of the pull moved by 0.25 m
+                path = os.path.join(other, "pull", case, "top_surface.csv")
+                with open(path) as f:
+                    head, *lines = f.read().splitlines()
+                with open(path, "w") as f:
+                    f.write(head + "\n")
+                    for line in lines:
+                        v = line.split(",")
+                        f.write(",".join([v[0]] + [repr(float(x) + 0.25) for x in v[1:4]] + v[4:]) + "\n")
+            scores = leaderboard.make(other, os.path.join(tmp, "other"), None, figures=False, converged=study)
+            pull = {s["case"]: s for s in scores["cube_pull_disc"]}
+            self.assertTrue(np.isnan(pull["fem-linear"]["rel_l2_converged"]))
+            self.assertAlmostEqual(pull["fem-linear"]["rel_l2"], 0.2)
+
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
         self.assertEqual([p[2] for p in front], ["d", "a", "c"])
