@@ -27,6 +27,18 @@ STUDY = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
                      "suite_reference_convergence")
 
 
+SIZED_ROLE = re.compile(r"^(.+)_\d+k$")
+
+
+def base_role(role):
+    """The paper-sized role a refined scenario's role names ("cube_pull_disc_10k" ->
+    "cube_pull_disc"): the same body, law and tools on a finer mesh, whose converged field
+    is the paper-sized one's (its observed vertices include the level-0 ones where the
+    refinement keeps them: the cube's grids, the surfaces split in four)."""
+    m = SIZED_ROLE.match(role)
+    return m.group(1) if m else role
+
+
 def parse(name):
     """(role, level, order) of a scenario name, or None."""
     m = NAME.match(name)

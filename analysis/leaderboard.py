@@ -384,7 +384,8 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
             continue
         scores = []
         for name in exp.scenario(scenario):
-            s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None, fields.get(role))
+            s = score_case(exp, scenario, name, ref_name, beads if key == "bead_rms_mm" else None,
+                           fields.get(converged_fields.base_role(role)))
             # The transient and the law references are references too: scored, never ranked.
             s["is_reference"] = exp.is_reference(name)
             scores.append(s)
@@ -417,10 +418,10 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
             row.append(budget_cell(scores, key, budget))
         row.append(reference_error_text(declared.get(role)))
         board_rows.append(row)
-        if role in fields and math.isfinite(ref["rel_l2_converged"]):
-            field = fields[role]
+        field = fields.get(converged_fields.base_role(role))
+        if field is not None and math.isfinite(ref["rel_l2_converged"]):
             # The study's own estimate of that run's error, where the declared file names the same run.
-            entry = declared.get(role, {}).get("converged", {})
+            entry = declared.get(field.role, {}).get("converged", {})
             same_run = (entry.get("order"), entry.get("level")) == field.key
             own = entry.get("field_error") if same_run else None
             own_text = (f" (its own est. {sig(own)})" if own is not None else
@@ -469,13 +470,15 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                 ["scenario (role)", "converged field (finest run of the reference study)"]
                 + [f"best within {b:g} ms" for b in BUDGETS_MS] + ["the reference case's own"],
                 converged_rows,
+                ("" if converged_rows else "No scenario of these results has a converged field at its vertices. ") +
                 "The same cells ranked by the relative L2 of the observed surface against the converged field: the "
                 "finest run of the reference study (Newton neo-Hookean, the scenario refined, P1 or P2; "
                 "docs/reference_convergence.md, 'Every suite scenario'; analysis/converged_fields.py) at the vertices "
-                "of the suite's mesh, with that run's own estimated error. The last column is the suite's reference "
-                "case (P1 on the suite's mesh) against it: its discretisation error, which every fine-mesh model of "
-                "the scenario carries too. Scenarios the study did not refine (the 10 000-vertex cube, the liver's "
-                "pads) have no row; on the Truth Cube the beads still rank (leaderboard.md). On the torus and the L-block "
+                "of the suite's mesh, with that run's own estimated error; a refined scenario (a role ending in _10k) "
+                "against its paper-sized role's field at those vertices, which its surface keeps. The last column is "
+                "the scenario's reference case (P1 on its mesh) against it: its discretisation error, which every "
+                "fine-mesh model of the scenario carries too. Scenarios the study did not refine (the liver's pads) "
+                "have no row; on the Truth Cube the beads still rank (leaderboard.md). On the torus and the L-block "
                 "the suite's grasp holds one surface vertex, the refined levels' the 5 mm patch "
                 "(docs/reference_convergence.md, 'The grasps'): their converged field is the patch's, and a model's "
                 "distance from it includes the point hold's.")

@@ -341,6 +341,17 @@ class Leaderboard(unittest.TestCase):
             self.assertTrue(np.isnan(pull["fem-linear"]["rel_l2_converged"]))
             self.assertAlmostEqual(pull["fem-linear"]["rel_l2"], 0.2)
 
+    def test_a_refined_scenario_is_scored_against_its_paper_sized_role_s_field(self):
+        import converged_fields
+        self.assertEqual(converged_fields.base_role("cube_pull_disc_10k"), "cube_pull_disc")
+        self.assertEqual(converged_fields.base_role("truth_cube_18_25_100k"), "truth_cube_18_25")
+        self.assertEqual(converged_fields.base_role("truth_cube_18_25"), "truth_cube_18_25")
+        # On the committed results: the 10k cube pull's cases at the paper-sized mesh's vertices,
+        # its reference nearer the converged field than the paper-sized one's.
+        rows = {(r[0], r[1]): r for r in read_rows(os.path.join(ROOT, "results", "tables", "suite_scores.csv"))[1:]}
+        self.assertLess(float(rows[("cube_pull_disc_10k", "reference")][4]),
+                        float(rows[("cube_pull_disc", "reference")][4]))
+
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
         self.assertEqual([p[2] for p in front], ["d", "a", "c"])
