@@ -21,13 +21,11 @@ from reference_convergence import match_vertices
 from results_index import ResultsError
 
 NAME = re.compile(r"^sref-(.+)-L(\d+)-p([12])$")
+SIZED_ROLE = re.compile(r"^(.+)_\d+k$")  # a refined scenario's role: "cube_pull_disc_10k"
 NEARLY_INCOMPRESSIBLE = 0.49  # Poisson's ratio from which P1 locks (the Truth Cube: 0.499)
 MATCH_TOLERANCE = 1e-9  # m: level-0 vertices at the same coordinates on every level
 STUDY = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "results",
                      "suite_reference_convergence")
-
-
-SIZED_ROLE = re.compile(r"^(.+)_\d+k$")
 
 
 def base_role(role):
@@ -53,6 +51,8 @@ def level0_rows(level0, observed, folder):
     (ids0, rest0), (ids, rest, _) = level0, observed
     if rest0 is not None and rest is not None:
         return match_vertices(rest0, rest, MATCH_TOLERANCE)
+    if (rest0 is None) != (rest is None):
+        raise ResultsError(f"{folder}/top_surface.csv: coordinates in one file and not the other (another surface?)")
     row = {v: k for k, v in enumerate(ids)}
     missing = [v for v in ids0 if v not in row]
     if missing:
@@ -93,23 +93,44 @@ def level0_vertices(runs, role):
     return metrics.read_displacements(os.path.join(runs[(1, 0)]["folder"], "top_surface.csv"))[:2]
 
 
-def field_at_level0(case, level0):
-    """A case's observed displacement at the level-0 vertices (#V0 x 3, m)."""
-    observed = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
+def field_at_level0(case, level0, observed=None):
+    """A case's observed displacement at the level-0 vertices (#V0 x 3, m); observed: its
+    top_surface.csv as read_displacements reads it, when already read."""
+    if observed is None:
+        observed = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
     return observed[2][level0_rows(level0, observed, case["folder"])]
+
+
+# The scenario's mesh keys that make a surface read from a file (scenario_schema.md);
+# its refinement (refine_levels) keeps the level-0 vertices first and is left out.
+SURFACE_KEYS = ("type", "surface", "unit_scale", "repair_self_intersections")
+
+
+def surface_source(case):
+    """What a case's surface is built from, whatever its refinement: the scenario's mesh
+    keys that make it (SURFACE_KEYS) and the source surface's vertex count. Two cases
+    with the same source share their level-0 vertices at the same indices
+    (meshing/surface_subdivision.h)."""
+    mesh = case["run"].get("scenario_resolved", {}).get("mesh", {})
+    return ({k: mesh.get(k) for k in SURFACE_KEYS},
+            case["run"].get("mesh", {}).get("surface_vertices_before_repair"))
 
 
 class ConvergedField:
     """One role's finest run: its (order, level) and label ("P2 L1"), and its field at the level-0 vertices."""
 
-    def __init__(self, role, key, level0, u):
-        self.role, self.key, self.level0, self.u = role, key, level0, u
+    def __init__(self, role, key, level0, u, source):
+        self.role, self.key, self.level0, self.u, self.source = role, key, level0, u, source
         self.label = f"P{key[0]} L{key[1]}"
 
     def error(self, case):
         """Relative L2 of the case's observed field against this one at the level-0
         vertices; NaN where the case's observed vertices are not the level-0 ones (another
-        mesh: a refined scenario, or a --set that changed the surface)."""
+        mesh: one meshed anew, or a --set that changed the surface). Files without
+        coordinates (a third-party surface) are matched by index only on the same source
+        surface (surface_source)."""
+        if self.level0[1] is None and surface_source(case) != self.source:
+            return float("nan")
         try:
             u = field_at_level0(case, self.level0)
         except (ValueError, ResultsError, IndexError):
@@ -127,5 +148,6 @@ def read(root=None):
     for role, runs in sorted(study_runs(root).items()):
         level0 = level0_vertices(runs, role)
         key = finest_key(list(runs), runs)
-        out[role] = ConvergedField(role, key, level0, field_at_level0(runs[key], level0))
+        out[role] = ConvergedField(role, key, level0, field_at_level0(runs[key], level0),
+                                   surface_source(runs[(1, 0)]))
     return out

@@ -287,6 +287,19 @@ def budget_cell(scores, key, budget):
     return text
 
 
+def converged_row(role, field, declared, scores, ref):
+    """A row of the table against the converged field: the field's run and its own
+    estimated error (where the declared file names that run), the budget cells by
+    rel_l2_converged, the reference case's distance from it."""
+    entry = declared.get(field.role, {}).get("converged", {})
+    same_run = (entry.get("order"), entry.get("level")) == field.key
+    own = entry.get("field_error") if same_run else None
+    own_text = (f" (its own est. {sig(own)})" if own is not None else
+                f" ({entry.get('field_error_how', 'no estimate')} of its own error)" if same_run else "")
+    return ([role, field.label + own_text] + [budget_cell(scores, "rel_l2_converged", b) for b in BUDGETS_MS]
+            + [sig(ref["rel_l2_converged"])])
+
+
 def not_run_cases(exp, scenario):
     """[(case, reason)]: cases the suite lists but did not run here (skipped or failed)."""
     out = []
@@ -354,13 +367,13 @@ def add_cases_from(exp, other_results, ref_name):
 
 
 def make(results, out, data_flag, figures=True, with_results=None, reference_errors=REFERENCE_ERRORS,
-         converged=converged_fields.STUDY):
+         converged=None):
     """Writes the tables (and figures); returns {role: [scores]}. with_results: a
     second results tree whose cases are scored beside the first's (add_cases_from).
     reference_errors: the file of each scenario's reference and its estimated
     discretisation error (read_reference_errors), carried beside each scenario.
-    converged: the reference study's results (converged_fields.read), whose finest field
-    per scenario every case is also scored against; None: not scored so."""
+    converged: the reference study's results folder (converged_fields.read), whose finest
+    field per scenario every case is also scored against; None: not scored so."""
     exp = results_index.Experiment(results)
     declared = read_reference_errors(reference_errors)
     fields = converged_fields.read(converged) if converged else {}
@@ -420,15 +433,7 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         board_rows.append(row)
         field = fields.get(converged_fields.base_role(role))
         if field is not None and math.isfinite(ref["rel_l2_converged"]):
-            # The study's own estimate of that run's error, where the declared file names the same run.
-            entry = declared.get(field.role, {}).get("converged", {})
-            same_run = (entry.get("order"), entry.get("level")) == field.key
-            own = entry.get("field_error") if same_run else None
-            own_text = (f" (its own est. {sig(own)})" if own is not None else
-                        " (its own error not estimated: one level of its order)" if same_run else "")
-            converged_rows.append([role, field.label + own_text]
-                                  + [budget_cell(scores, "rel_l2_converged", b) for b in BUDGETS_MS]
-                                  + [sig(ref["rel_l2_converged"])])
+            converged_rows.append(converged_row(role, field, declared, scores, ref))
         if role in declared:
             error_notes.append(f"- {role}: {ref_name}'s estimated discretisation error (relative L2 of the field): "
                                f"{reference_error_text(declared[role])}")
@@ -476,8 +481,9 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
                 "docs/reference_convergence.md, 'Every suite scenario'; analysis/converged_fields.py) at the vertices "
                 "of the suite's mesh, with that run's own estimated error; a refined scenario (a role ending in _10k) "
                 "against its paper-sized role's field at those vertices, which its surface keeps. The last column is "
-                "the scenario's reference case (P1 on its mesh) against it: its discretisation error, which every "
-                "fine-mesh model of the scenario carries too. Scenarios the study did not refine (the liver's pads) "
+                "the scenario's reference case (P1 on its mesh) against it: its distance from that run (leaderboard.md's "
+                "'reference's own error' is the largest of it and the Richardson estimates), which every fine-mesh "
+                "model of the scenario carries too. Scenarios the study did not refine (the liver's pads) "
                 "have no row; on the Truth Cube the beads still rank (leaderboard.md). On the torus and the L-block "
                 "the suite's grasp holds one surface vertex, the refined levels' the 5 mm patch "
                 "(docs/reference_convergence.md, 'The grasps'): their converged field is the patch's, and a model's "
@@ -517,12 +523,15 @@ def main():
     parser.add_argument("--reference-errors", default=REFERENCE_ERRORS,
                         help="each scenario's reference and its estimated discretisation error (JSON; "
                         "analysis/suite_reference_convergence.py writes it)")
+    parser.add_argument("--converged", default=converged_fields.STUDY,
+                        help="the reference study's results (scripts/suite_reference_convergence), whose finest "
+                        "field per scenario every case is also scored against; '' for none")
     parser.add_argument("--with", dest="with_results", default=None,
                         help="another run of the suite (e.g. one model's, --model) scored beside RESULTS")
     a = parser.parse_args()
 
     def run():
-        make(a.results, a.out, a.data_dir, not a.no_figures, a.with_results, a.reference_errors)
+        make(a.results, a.out, a.data_dir, not a.no_figures, a.with_results, a.reference_errors, a.converged or None)
         if a.readme:
             update_readme(a.readme, os.path.join(a.out, "tables"))
     results_index.main(run, "leaderboard")

@@ -75,8 +75,9 @@ def dofs_of(case):
 
 def qois(role, case, level0, beads):
     """The observed field at the level-0 vertices (#V0 x 3, m) and the scalar QoIs."""
-    u = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))[2]
-    u0 = field_at_level0(case, level0)
+    observed = metrics.read_displacements(os.path.join(case["folder"], "top_surface.csv"))
+    u = observed[2]
+    u0 = field_at_level0(case, level0, observed)
     rest0 = level0[1]
     q = {}
     if role.startswith("cube_") and role != "cube_palpation":  # the sphere moves off the top centre

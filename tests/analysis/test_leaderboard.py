@@ -352,6 +352,31 @@ class Leaderboard(unittest.TestCase):
         self.assertLess(float(rows[("cube_pull_disc_10k", "reference")][4]),
                         float(rows[("cube_pull_disc", "reference")][4]))
 
+    def test_files_without_coordinates_are_matched_by_index_on_the_same_source_surface_only(self):
+        import converged_fields
+        with tempfile.TemporaryDirectory() as tmp:
+            def case(name, header, rows, surface, before_repair):
+                folder = os.path.join(tmp, name)
+                os.makedirs(folder)
+                with open(os.path.join(folder, "top_surface.csv"), "w") as f:
+                    f.write(header + "\n" + "".join(r + "\n" for r in rows))
+                mesh = {"type": "files", "surface": surface, "unit_scale": 0.01, "repair_self_intersections": True,
+                        "refine_levels": 1, "fine_tetgen": {"max_volume": 1e-9}}
+                return {"folder": folder, "run": {"scenario_resolved": {"mesh": mesh},
+                                                  "mesh": {"surface_vertices_before_repair": before_repair}}}
+            level0 = (np.array([0, 1]), None)
+            source = ({"type": "files", "surface": "data:a.obj", "unit_scale": 0.01,
+                       "repair_self_intersections": True}, 2)
+            field = converged_fields.ConvergedField("liver", (1, 2), level0, np.array([[0, 0, 2.0], [0, 0, 2.0]]), source)
+            # Refined from the same surface: its first two vertices are the level-0 ones, one of them 2 off.
+            rows = ["0,0,0,2", "1,0,0,0", "2,0,0,9"]
+            self.assertAlmostEqual(field.error(case("same", "vertex,ux,uy,uz", rows, "data:a.obj", 2)), 1 / np.sqrt(2))
+            # Another surface with as many vertices: never a number.
+            self.assertTrue(np.isnan(field.error(case("other", "vertex,ux,uy,uz", rows, "data:b.obj", 2))))
+            # Coordinates in the case's file but not in the level-0 one's: not matched either.
+            coords = ["0,0,0,0,0,0,2", "1,0,0,0,0,0,0"]
+            self.assertTrue(np.isnan(field.error(case("coords", "vertex,x,y,z,ux,uy,uz", coords, "data:a.obj", 2))))
+
     def test_pareto_front_keeps_only_undominated_points(self):
         front = leaderboard.pareto_front([(1.0, 0.5, "a"), (2.0, 0.6, "b"), (3.0, 0.1, "c"), (0.5, 0.9, "d")])
         self.assertEqual([p[2] for p in front], ["d", "a", "c"])
