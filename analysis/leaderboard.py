@@ -405,7 +405,8 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         everything[role] = scores
         for s in scores:
             if s["case"] in added:
-                print(f"{role}: {s['case']}: relative L2 {sig(s['rel_l2'])}, bead RMS {sig(s['bead_rms_mm'])} mm, "
+                print(f"{role}: {s['case']}: relative L2 {sig(s['rel_l2'])} (against the converged field "
+                      f"{sig(s['rel_l2_converged'])}), bead RMS {sig(s['bead_rms_mm'])} mm, "
                       f"tool force error {sig(s['tool_force_error_n'])} N, median {fmt(s['median_ms'])} ms "
                       f"(the committed cases: results/tables/suite_scores.md)")
         for s in scores:
