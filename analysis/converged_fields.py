@@ -140,10 +140,12 @@ class ConvergedField:
 
 def read(root=None):
     """{role: ConvergedField} of the study's results under root (default: the committed
-    results); {} where the study has no results there."""
+    results). A root without the study's results is a one-line error (a mistyped
+    --converged would otherwise score nothing and say nothing)."""
     root = STUDY if root is None else root
     if not os.path.isdir(os.path.join(root, "suite_reference_convergence")):
-        return {}
+        raise ResultsError(f"{root}: no reference study results (a suite_reference_convergence folder; "
+                           "scripts/suite_reference_convergence writes them)")
     out = {}
     for role, runs in sorted(study_runs(root).items()):
         level0 = level0_vertices(runs, role)

@@ -323,6 +323,8 @@ class Leaderboard(unittest.TestCase):
             header = read_rows(os.path.join(tmp, "tables", "suite_scores.csv"))[0]
             self.assertEqual(header[3:5], ["rel L2 vs reference", "rel L2 vs converged"])
             # Without a study, or on other vertices (another mesh), no number: never a wrong one.
+            with self.assertRaisesRegex(leaderboard.ResultsError, "no reference study results"):
+                leaderboard.make(exp, tmp, None, figures=False, converged=os.path.join(tmp, "no-such-study"))
             scores = leaderboard.make(exp, tmp, None, figures=False, converged=None)
             self.assertTrue(all(np.isnan(s["rel_l2_converged"]) for s in scores["cube_pull_disc"]))
             self.assertEqual(read_rows(os.path.join(tmp, "tables", "leaderboard_converged.csv"))[1:], [])
