@@ -31,7 +31,7 @@ import metrics  # noqa: E402
 import results_index  # noqa: E402
 import truth_cube  # noqa: E402
 from results_index import ResultsError  # noqa: E402
-from table_io import busy_cases, case_legend, fmt, machine_note, write_table  # noqa: E402
+from table_io import busy_cases, case_table, fmt, machine_note, markdown_table, write_table  # noqa: E402
 
 BUDGETS_MS = (0.1, 1.0, 16.0)
 # Between two runs of the suite on the 2-vCPU machines it was timed on, 9 in 10 cases'
@@ -382,7 +382,7 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
     ref_name = exp.require_reference()
     added = add_cases_from(exp, with_results, ref_name) if with_results else set()
     beads = None
-    everything, score_rows, board_rows, notes = {}, [], [], []
+    everything, score_rows, board_rows, notes, not_run = {}, [], [], [], []
     roles = [r for r in exp.roles if exp.roles[r] and exp.roles[r][0] in exp.scenarios]
     if not roles:
         raise ResultsError(f"{results}: no scenario with a role has results")
@@ -438,9 +438,7 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         if role in declared:
             error_notes.append(f"- {role}: {ref_name}'s estimated discretisation error (relative L2 of the field): "
                                f"{reference_error_text(declared[role])}")
-        skipped = not_run_cases(exp, scenario)
-        if skipped:
-            notes.append(f"- {role}: not run: " + "; ".join(f"{c} ({r})" for c, r in skipped))
+        not_run += [[role, c, r] for c, r in not_run_cases(exp, scenario)]
         if figures:
             os.makedirs(os.path.join(out, "figures"), exist_ok=True)
             figure(role, scenario, scores, key, os.path.join(out, "figures"))
@@ -449,34 +447,38 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
         raise ResultsError(f"{results}: no scenario has its reference case's results")
     all_cases = {f"{role}/{n}": c for role in everything for n, c in exp.scenario(exp.scenario_name(role)).items()}
     machine = machine_note(all_cases, "threads as each case's parameters say (one unless a `threads` is given)")
-    legend = case_legend({c["name"]: c for c in all_cases.values()})
-    reference_note = ("\n\nThe reference is a discretisation too; its estimated error per scenario "
-                      "(docs/reference_convergence.md, 'Every suite scenario'):\n" + "\n".join(error_notes)
-                      if error_notes else "")
+    legend = "### Cases\n\n" + case_table({c["name"]: c for c in all_cases.values()})
+    not_run_table = ("\n\n### Not run\n\nCases the suite lists that did not run on a scenario (the model refuses "
+                     "its tools, or the run failed):\n\n" + markdown_table(["scenario (role)", "case", "why"], not_run)
+                     if not_run else "")
+    reference_note = ("\n\n### The reference's own error\n\nThe reference is a discretisation too; its estimated "
+                      "error per scenario (docs/reference_convergence.md, 'Every suite scenario'):\n\n"
+                      + "\n".join(error_notes) if error_notes else "")
     write_table(tables, "suite_scores",
                 ["role", "case", "model", "rel L2 vs reference", "rel L2 vs converged", "max error (mm)",
                  "probe error (mm)",
                  "tool force error (N)", "tool force error (rel)", "bead RMS (mm)", "transient error (rel)",
                  "transient max error (mm)", "median (ms)", "p95 (ms)",
                  "setup (ms)", "peak memory (MiB)", "frames", "settled"],
-                score_rows, machine + "\n\n" + legend + reference_note)
+                score_rows, machine + "\n\n" + legend + not_run_table + reference_note)
     write_table(tables, "leaderboard",
                 ["scenario (role)", "reference (ranked by)"] + [f"best within {b:g} ms" for b in BUDGETS_MS]
                 + ["reference's own error (est.)"],
                 board_rows,
-                "Each cell: the case with the smallest error among those whose median frame fits the budget, "
-                "and that error (relative L2 of the observed surface against the scenario's reference case; "
-                "on the Truth Cube, the RMS bead error in mm); in brackets, a more accurate case whose median "
-                f"misses the budget by less than {EDGE_FACTOR:g} times (9 in 10 cases' median frames moved by "
-                "less between two runs on the machines measured, docs/suite.md). The reference's own error: the estimated "
-                "discretisation error of the reference case's field (relative L2 against the converged field of the "
-                "run named, docs/reference_convergence.md, 'Every suite scenario'): errors below it rank models "
-                "on what the reference cannot resolve. " + machine + "\n\n" + legend + "\n\n" + "\n".join(notes))
+                LEADERBOARD_CAPTION + "\n\n" + machine + "\n\n### The columns\n\n"
+                f"In brackets: a more accurate case whose median misses the budget by less than {EDGE_FACTOR:g} "
+                "times (9 in 10 cases' median frames moved by less between two runs on the machines measured, "
+                "docs/suite.md). The reference's own error: the estimated discretisation error of the reference "
+                "case's field (relative L2 against the converged field of the run named, "
+                "docs/reference_convergence.md, 'Every suite scenario'): errors below it rank models on what the "
+                "reference cannot resolve.\n\n" + legend + not_run_table
+                + ("\n\n### Notes\n\n" + "\n".join(notes) if notes else ""))
     write_table(tables, "leaderboard_converged",
                 ["scenario (role)", "converged field (finest run of the reference study)"]
                 + [f"best within {b:g} ms" for b in BUDGETS_MS] + ["the reference case's own"],
                 converged_rows,
                 ("" if converged_rows else "No scenario of these results has a converged field at its vertices. ") +
+                CONVERGED_CAPTION + "\n\n### The columns\n\n"
                 "The same cells ranked by the relative L2 of the observed surface against the converged field: the "
                 "finest run of the reference study (Newton neo-Hookean, the scenario refined, P1 or P2; "
                 "docs/reference_convergence.md, 'Every suite scenario'; analysis/converged_fields.py) at the vertices "
@@ -492,26 +494,42 @@ def make(results, out, data_flag, figures=True, with_results=None, reference_err
     return everything
 
 
+# The caption the README shows under the table (at most three short lines); the rest of
+# what the table needs is under it in leaderboard.md.
+LEADERBOARD_CAPTION = ("Each cell: the most accurate case whose median frame fits the budget, and its error against "
+                       "the scenario's reference (relative L2 of the observed surface; on the Truth Cube, the RMS "
+                       "bead error in mm); in brackets, a more accurate case just over the budget.")
+CONVERGED_CAPTION = ("The same cells ranked against the converged field (the reference study's finest run, at the "
+                     "suite mesh's vertices); the last column is the reference case's own distance from it.")
+
 README_BEGIN = "<!-- leaderboard:begin (written by analysis/leaderboard.py --readme) -->"
 README_END = "<!-- leaderboard:end -->"
 
 
+def readme_block(tables_dir):
+    """The README's verdict: leaderboard.md's table and caption, and where the rest is
+    (the converged-field table, the machine, the cases, the cases not run)."""
+    def table_and_caption(name):
+        with open(os.path.join(tables_dir, name + ".md")) as f:
+            paragraphs = f.read().strip().split("\n\n")
+        return paragraphs[0] + "\n\n" + paragraphs[1]
+    return table_and_caption("leaderboard") + (
+        "\n\nWhere and when measured, every case's parameters, the cases not run: "
+        "[results/tables/leaderboard.md](results/tables/leaderboard.md); the same cells against the converged field: "
+        "[leaderboard_converged.md](results/tables/leaderboard_converged.md); every metric of every case: "
+        "[suite_scores.md](results/tables/suite_scores.md).")
+
+
 def update_readme(path, tables_dir):
-    """Copies results/tables/leaderboard.md between the README's leaderboard markers."""
+    """Writes readme_block between the README's leaderboard markers."""
     with open(path) as f:
         text = f.read()
     if README_BEGIN not in text or README_END not in text:
         raise ResultsError(f"{path}: no leaderboard markers ({README_BEGIN} ... {README_END})")
-    with open(os.path.join(tables_dir, "leaderboard.md")) as f:
-        table = f.read().strip()
-    converged = os.path.join(tables_dir, "leaderboard_converged.md")
-    if os.path.isfile(converged):
-        with open(converged) as f:
-            table += "\n\n**Against the converged field** (the continuum's answer of the law, not the suite's mesh's):\n\n" + f.read().strip()
     head, rest = text.split(README_BEGIN, 1)
     _, tail = rest.split(README_END, 1)
     with open(path, "w") as f:
-        f.write(head + README_BEGIN + "\n" + table + "\n" + README_END + tail)
+        f.write(head + README_BEGIN + "\n" + readme_block(tables_dir) + "\n" + README_END + tail)
 
 
 def main():

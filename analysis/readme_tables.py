@@ -1,9 +1,8 @@
 """Writes the paper's tables into the documentation, from results/tables/, so the
 README and the reproduction page show what the last reproduce run measured:
 
-- README.md, between its table markers: short versions of tables 1-3 (table 1's
-  correlations beside the relative L2 error, the per-frame medians of tables 2 and
-  3, table 3's correlations), each cell copied from the table's .csv;
+- README.md, between its table markers: one short table of the cases the paper
+  reports, its values beside ours (short_block), each cell copied from a .csv;
 - docs/paper_reproduction.md, between the same markers: every table in full
   (tables 1-3, their continuations and the coarse sweep), as results/tables/*.md.
 
@@ -19,7 +18,6 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
-from table_io import paper_values  # noqa: E402
 
 BEGIN = "<!-- tables:begin (written by analysis/readme_tables.py) -->"
 END = "<!-- tables:end -->"
@@ -42,82 +40,42 @@ def read_csv(tables_dir, name):
     return rows[0], rows[1:]
 
 
-def notes(tables_dir, name):
-    """The note under results/tables/<name>.md's table (its last paragraph)."""
-    with open(os.path.join(tables_dir, name + ".md")) as f:
-        return f.read().strip().split("\n\n")[-1]
-
-
-def measured_on(tables_dir, name):
-    """'Measured on <cpu> ..., commit ...; one thread.' from a timing table's note."""
-    text = notes(tables_dir, name)
-    start = text.find("Measured on ")
-    end = text.find("one thread.", start)
-    return text[start:end + len("one thread.")] if start >= 0 and end >= 0 else ""
-
-
 def markdown(header, rows):
     cell = lambda c: str(c).replace("|", "\\|")  # noqa: E731
     md = "| " + " | ".join(cell(h) for h in header) + " |\n|" + "---|" * len(header) + "\n"
     return md + "".join("| " + " | ".join(cell(c) for c in r) + " |\n" for r in rows)
 
 
-def metric_rows(tables_dir, name, metric):
-    """{model: (pull, push)} of one metric of a *_metrics table."""
+def column(tables_dir, name, key, value):
+    """{row key: cell} of one column of results/tables/<name>.csv."""
     header, rows = read_csv(tables_dir, name)
     col = {h: i for i, h in enumerate(header)}
-    return {r[col["model"]]: (r[col["pull"]], r[col["push"]]) for r in rows if r[col["metric"]] == metric}
-
-
-def short_table1(tables_dir):
-    header, rows = read_csv(tables_dir, "table1")
-    l2 = metric_rows(tables_dir, "table1_metrics", "relative L2 error")
-    reference = rows[0][0].split(" vs ", 1)[1]
-    body = []
-    for r in rows:
-        model = r[0].split(" vs ", 1)[0]
-        body.append([model, r[1], r[2], r[3], r[4], *l2.get(model, ("", ""))])
-    title = f"Table 1, cube: Pearson r of u_z on the top surface against {reference}, and the relative L2 error"
-    note = ("Correlation is blind to scale, so the relative L2 error (||u - u_ref|| / ||u_ref||) stands beside it; "
-            f"the load-point ratio and the maximum error are in the [full table]({FULL}).")
-    head = ["model", "r pull", "paper", "r push", "paper", "rel. L2 pull", "rel. L2 push"]
-    return title, markdown(head, body), note, reference
-
-
-def short_timing(tables_dir, name, reference=None):
-    """Per case: the pull's and the push's median and the paper's value; with a
-    reference (table 3), also r(u_z) from <name>_metrics."""
-    header, rows = read_csv(tables_dir, name)
-    col = {h: i for i, h in enumerate(header)}
-    r_uz = metric_rows(tables_dir, name + "_metrics", "r(u_z)") if reference else {}
-    body = []
-    for r in rows:
-        model = r[col["model"]]
-        row = [model, r[col["pull median (ms)"]], r[col["pull paper (ms)"]], r[col["push median (ms)"]],
-               r[col["push paper (ms)"]]]
-        if reference:
-            row += ["(reference)", ""] if model == reference else list(r_uz.get(model, ("", "")))
-        body.append(row)
-    head = ["model", "pull (ms)", "paper", "push (ms)", "paper"] + (["r pull", "r push"] if reference else [])
-    return markdown(head, body)
+    return {r[col[key]].split(" vs ", 1)[0]: r[col[value]] for r in rows}
 
 
 def short_block(tables_dir):
-    paper = paper_values()
-    machine = measured_on(tables_dir, "table3")
-    machine = "measured as table 2" if machine == measured_on(tables_dir, "table2") else machine
-    t1_title, t1, t1_note, reference = short_table1(tables_dir)
-    sections = [
-        (t1_title, t1, t1_note),
-        ("Table 2, cube: per-frame time", short_timing(tables_dir, "table2"),
-         f"Median per-frame time of `step()`; the paper's on an {paper['machine']}. "
-         f"{measured_on(tables_dir, 'table2')} p95, setup and every case's parameters: [full table]({FULL})."),
-        ("Table 3, liver: per-frame time, and r of u_z over the whole surface (beyond the paper)",
-         short_timing(tables_dir, "table3", reference),
-         f"Median per-frame time, {machine}; r against {reference}. '(not steady)': the frame budget "
-         f"ended before the steady-state test was met. p95 and the other metrics: [full table]({FULL})."),
-    ]
-    return "\n".join(f"#### {title}\n\n{table}\n{note}\n" for title, table, note in sections)
+    """The README's one table: the cases the paper reports, its values beside ours:
+    table 1's r(u_z) on the cube, tables 2 and 3's per-frame medians of the pull, each
+    cell copied from results/tables/*.csv."""
+    r_pull = column(tables_dir, "table1", "models", "pull (measured)")
+    r_push = column(tables_dir, "table1", "models", "push (measured)")
+    r_pull_paper = column(tables_dir, "table1", "models", "pull (paper)")
+    r_push_paper = column(tables_dir, "table1", "models", "push (paper)")
+    cube = column(tables_dir, "table2", "model", "pull median (ms)")
+    cube_paper = column(tables_dir, "table2", "model", "pull paper (ms)")
+    liver = column(tables_dir, "table3", "model", "pull median (ms)")
+    liver_paper = column(tables_dir, "table3", "model", "pull paper (ms)")
+    reported = [m for m in cube if r_pull_paper.get(m) or cube_paper.get(m) or liver_paper.get(m)]
+    reference = next(iter(read_csv(tables_dir, "table1")[1]))[0].split(" vs ", 1)[1]
+    body = [[m, r_pull.get(m, "(reference)" if m == reference else ""), r_pull_paper.get(m, ""),
+             r_push.get(m, "(reference)" if m == reference else ""), r_push_paper.get(m, ""),
+             cube.get(m, ""), cube_paper.get(m, ""), liver.get(m, ""), liver_paper.get(m, "")] for m in reported]
+    head = ["model", "r(u_z) cube pull", "paper", "r(u_z) cube push", "paper", "cube pull (ms)", "paper",
+            "liver pull (ms)", "paper"]
+    note = (f"r(u_z): Pearson correlation of the top surface's vertical displacement with {reference}'s (table 1); "
+            "ms: median per-frame time (tables 2 and 3; the paper's on its own machine). Every model, metric, "
+            f"p95 and where it was measured: [the full tables]({FULL}).")
+    return markdown(head, body) + "\n" + note + "\n"
 
 
 def full_block(tables_dir):

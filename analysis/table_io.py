@@ -123,6 +123,17 @@ def case_legend(cases):
     return "Cases: " + "; ".join(parts) + "."
 
 
+def case_table(cases):
+    """A Markdown table of every case: its model and the parameters the scenario set
+    (from run.json), one row a case (case_legend's content, for long lists)."""
+    rows = []
+    for name, c in cases.items():
+        run = c["run"]
+        given = run.get("parameters_given", run.get("parameters", {}))
+        rows.append([name, run.get("model", name), ", ".join(f"{k} {v}" for k, v in sorted(given.items()))])
+    return markdown_table(["case", "model", "parameters the scenario set"], rows)
+
+
 def ordered_for_paper(names, paper, table):
     """Cases the paper has a value for first (in the paper's order), then the rest."""
     in_paper = [c for m in paper[table] for c in names if paper["paper_model_of_case"].get(c) == m]

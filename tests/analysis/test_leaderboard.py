@@ -114,7 +114,7 @@ class Leaderboard(unittest.TestCase):
             self.assertEqual(board["cube_pull_disc"][2:5], ["embedded 0.5", "mymodel 0.1", "mymodel 0.1"])
             with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
                 md = f.read()
-            self.assertIn("torus_grasp: not run: condensed (model 'condensed' does not take grasp)", md)
+            self.assertIn("| torus_grasp | condensed | model 'condensed' does not take grasp", md)
             self.assertTrue(os.path.isfile(os.path.join(tmp, "figures", "suite_torus_grasp.png")))
             readme = os.path.join(tmp, "README.md")
             with open(readme, "w") as f:
@@ -171,7 +171,7 @@ class Leaderboard(unittest.TestCase):
             board = {r[0]: r for r in read_rows(os.path.join(tmp, "tables", "leaderboard.csv"))[1:]}
             self.assertEqual(board["cube_pull_disc"][2:5], ["embedded 0.5", "embedded 0.5", "fem-linear 0.2"])
             with open(os.path.join(tmp, "tables", "leaderboard.md")) as f:
-                self.assertIn("mymodel (failed: tools[0] (sphere) tunnelled through the surface)", f.read())
+                self.assertIn("| cube_pull_disc | mymodel | failed: tools[0] (sphere) tunnelled through the surface |", f.read())
 
     def test_the_reference_s_estimated_error_is_carried_beside_each_scenario(self):
         with tempfile.TemporaryDirectory() as tmp:
