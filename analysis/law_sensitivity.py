@@ -24,8 +24,10 @@ reference:
 - tool force: at the last frame, the largest over the tools of |F_a - F_b| / |F_ref|;
 - on the Truth Cube, each law's RMS bead error (mm, as analysis/truth_cube.py);
 and the ranked models' surface errors with each other nonlinear law's answer as the
-reference: which pairs of models change order.
-Writes OUT/tables/law_sensitivity.md (a paragraph on what it means for the ranking,
+reference: which pairs of models change order (with the smallest per-frame budget
+both fit), and which of the leaderboard's cells (the most accurate case within 0.1, 1
+and 16 ms) would go to another model.
+Writes OUT/tables/law_sensitivity.md (short lines on what it means for the ranking,
 then the tables) and OUT/tables/law_sensitivity.csv (one value a row).
 """
 import argparse
@@ -236,7 +238,9 @@ def scenario_values(exp, role, beads):
         bead_values.update(spread({n: beads.rms_mm(cases[n]) for n in ranked}))
     # The ranked models' surface errors with each nonlinear law's answer as the reference.
     rankings = {short(law): {n: obs.field(n, name) for n in ranked} for law, name in laws.items() if law != LINEAR}
+    medians = {n: float(cases[n]["timings"]["step"]["median_ms"]) for n in ranked}
     return {"laws": laws, "norms": norms, "values": values, "beads": bead_values, "rankings": rankings,
+            "medians": medians, "ranked_by_field": leaderboard.accuracy_key(role) == "rel_l2",
             "inverted": inverted_law_cases(exp, cases)}
 
 
@@ -252,7 +256,7 @@ def swapped(errors, other):
 
 
 def summary(everything):
-    """The paragraph on top: what the law-to-law differences mean for the ranking."""
+    """The lines on top (a Markdown list): what the law-to-law differences mean for the ranking."""
     fields = {role: r["values"]["surface field"] for role, r in everything.items()}
     gaps = {role: law_gap(v) for role, v in fields.items() if math.isfinite(law_gap(v))}
     if not gaps:
@@ -260,42 +264,100 @@ def summary(everything):
                 "(the suite's law_references did not run).")
     lo, hi = min(gaps, key=gaps.get), max(gaps, key=gaps.get)
     linear = [v[f"coupled vs {short(LINEAR)}"] for v in fields.values() if f"coupled vs {short(LINEAR)}" in v]
-    text = (f"The largest difference between the observed surface fields of two neo-Hookean laws (the reference's "
-            f"coupled law and the others) ranges over the scenarios from {sig(gaps[lo])} ({lo}) to {sig(gaps[hi])} "
-            f"({hi}) of ||u_ref||")
+    first = (f"- The largest difference between the observed surface fields of two neo-Hookean laws (the reference's "
+             f"coupled law and the others) ranges over the scenarios from {sig(gaps[lo])} ({lo}) to {sig(gaps[hi])} "
+             f"({hi}) of ||u_ref||")
     if linear:
-        text += f"; the linear law differs from the coupled one by {sig(min(linear))} to {sig(max(linear))}"
-    limited = [f"{role} ({', '.join(fields[role]['models below'])})" for role in gaps if fields[role]["models below"]]
-    free = [role for role in gaps if not fields[role]["models below"]]
-    text += (". A model whose error against the reference is below the largest of these law-to-law differences in "
+        first += f"; the linear law differs from the coupled one by {sig(min(linear))} to {sig(max(linear))}"
+    lines = [first + ".",
+             "- A model whose error against the reference is below the largest of these law-to-law differences in "
              "its scenario is as close to the reference as another standard law is: its rank among such models says "
              "which is nearer the coupled law's answer, not which is nearer the tissue, and a difference between two "
-             "of them smaller than the gap is no evidence that one is the better tissue model.")
+             "of them smaller than the gap is no evidence that one is the better tissue model."]
+    limited = [f"{role} ({', '.join(fields[role]['models below'])})" for role in gaps if fields[role]["models below"]]
+    free = [role for role in gaps if not fields[role]["models below"]]
     if limited:
-        text += " Ranked models below the gap (surface field): " + "; ".join(limited) + "."
+        lines.append("- Ranked models below the gap (surface field): " + "; ".join(limited) + ".")
     if free:
-        text += (" No ranked model is below it in " + ", ".join(free) + ": there every model is further from the "
-                 "reference than the laws are from each other.")
+        lines.append("- No ranked model is below it in " + ", ".join(free) + ": there every model is further from "
+                     "the reference than the laws are from each other.")
     changes = ranking_changes(everything)
-    text += (" Measured directly (the last table), with another neo-Hookean law's answer as the reference the "
-             "ranked models change order in " + "; ".join(f"{role} ({', '.join(pairs)})" for role, pairs in
-                                                           changes.items())
-             + "; in every other scenario their order is the same under every law measured there." if changes else
-             " Measured directly (the last table), the ranked models keep their order with any of these laws' "
-             "answers as the reference.")
-    return text
+    if changes:
+        lines.append("- Measured directly (the last two tables), with another neo-Hookean law's answer as the "
+                     "reference the ranked models change order in " + "; ".join(
+                         f"{role} ({', '.join(f'{n} pair{plural(n)} under {law}' for law, n in counts.items())})"
+                         for role, counts in changes.items())
+                     + "; in every other scenario their order is the same under every law measured there.")
+    else:
+        lines.append("- Measured directly (the last table), the ranked models keep their order with any of these "
+                     "laws' answers as the reference.")
+    ranked = [r for r in everything.values() if r["ranked_by_field"]]
+    cells = sum(max(len(r["rankings"]) - 1, 0) * len(leaderboard.BUDGETS_MS) for r in ranked)
+    moved = [budget for r in ranked for _, _, budget, _, _ in cell_changes(r)]
+    by_budget = ", ".join(f"{moved.count(b)} within {b:g} ms" for b in leaderboard.BUDGETS_MS if b in moved)
+    lines.append(f"- With another law's answer as the reference, {len(moved)} of the {cells} leaderboard cells ranked "
+                 "by the surface field (a scenario, a budget, a law) go to another model"
+                 + (f" ({by_budget}: the next-to-last table)" if moved else "") + ".")
+    return "\n".join(lines)
+
+
+def plural(n):
+    return "" if n == 1 else "s"
 
 
 def ranking_changes(everything):
-    """{role: ['a/b under law', ...]}: the pairs of ranked models in another order (surface
+    """{role: {law: how many pairs}}: the pairs of ranked models in another order (surface
     field) with another nonlinear law's answer as the reference, where there are any."""
     out = {}
     for role, r in everything.items():
         coupled = r["rankings"].get(short(next(iter(r["laws"]))))
-        pairs = [f"{a}/{b} under {law}" for law, errors in r["rankings"].items() if errors is not coupled
-                 for a, b in swapped(coupled, errors)[0]]
-        if pairs:
-            out[role] = pairs
+        if coupled is None:
+            continue
+        counts = {law: len(swapped(coupled, errors)[0]) for law, errors in r["rankings"].items()
+                  if errors is not coupled}
+        counts = {law: n for law, n in counts.items() if n}
+        if counts:
+            out[role] = counts
+    return out
+
+
+def best_within(errors, medians, budget):
+    """(case, error) of the most accurate ranked case whose median frame fits the budget, as
+    leaderboard.best_within picks it (a tie to the faster), or None."""
+    fits = [n for n in errors if math.isfinite(errors[n]) and medians.get(n, math.inf) <= budget]
+    if not fits:
+        return None
+    best = min(fits, key=lambda n: (errors[n], medians[n]))
+    return best, errors[best]
+
+
+def best_text(best):
+    return "none fits" if best is None else f"{best[0]} {best[1]:.4g}"
+
+
+def both_within(a, b, medians):
+    """The smallest of the leaderboard's budgets both cases' median frames fit, as text."""
+    slower = max(medians.get(a, math.inf), medians.get(b, math.inf))
+    fits = [budget for budget in leaderboard.BUDGETS_MS if slower <= budget]
+    return f"{fits[0]:g} ms" if fits else f"over {leaderboard.BUDGETS_MS[-1]:g} ms"
+
+
+def cell_changes(r):
+    """[(law, reference law, budget, best under the reference's law, best under that law)] of
+    one scenario's leaderboard cells that another nonlinear law's answer gives to another
+    case; none where the leaderboard ranks by something no law changes (the beads)."""
+    ref_law = short(next(iter(r["laws"])))
+    under_ref = r["rankings"].get(ref_law)
+    if not r["ranked_by_field"] or under_ref is None:
+        return []
+    out = []
+    for law, errors in r["rankings"].items():
+        if law == ref_law:
+            continue
+        for budget in leaderboard.BUDGETS_MS:
+            ref, other = best_within(under_ref, r["medians"], budget), best_within(errors, r["medians"], budget)
+            if (ref and ref[0]) != (other and other[0]):
+                out.append((law, ref_law, budget, ref, other))
     return out
 
 
@@ -357,9 +419,11 @@ def difference_table(everything):
           "(the Truth Cube's: its beads); tool force: at the last frame, the largest over the tools of "
           "|F_a - F_b| / |F_ref|. Models: the same error of each ranked model against the reference (min, "
           "median, max over the models that measure it). Below the law gap: the ranked models whose error is "
-          "smaller than the largest difference between two nonlinear laws in that scenario. The palpation's "
-          "reference is Newton's neo-Hookean contact, but its law references are not run (their contact does "
-          "not get through the drag, docs/suite.md): no law difference is measured there."]
+          "smaller than the largest difference between two nonlinear laws in that scenario."]
+    unmeasured = [role for role, r in everything.items() if sum(law != LINEAR for law in r["laws"]) < 2]
+    if unmeasured:
+        md[-1] += (" No law difference is measured on " + ", ".join(unmeasured) + ": its law references are not run "
+                   "(or left out), so only the linear law stands beside the reference's.")
     return md, csv_rows
 
 
@@ -381,27 +445,60 @@ def bead_table(everything):
 
 
 def order_table(everything):
-    """The ranking with each other nonlinear law's answer as the reference: (Markdown, CSV rows)."""
-    rows, csv_rows = [], []
+    """The ranking with each other nonlinear law's answer as the reference: per scenario and
+    law, how many pairs of ranked models change order and which leaderboard cells go to
+    another case; then each pair in another order, one a row. (Markdown, CSV rows)."""
+    rows, pair_rows, csv_rows = [], [], []
     for role, r in everything.items():
         ref_law = short(next(iter(r["laws"])))
+        under_ref = r["rankings"].get(ref_law)
+        if under_ref is None:  # the reference's law is the linear one: no ranking under a nonlinear law to compare
+            continue
+        changed = {(law, budget): (ref, other) for law, _, budget, ref, other in cell_changes(r)}
         for law, errors in r["rankings"].items():
             if law == ref_law:
                 continue
-            under_ref = r["rankings"][ref_law]
             pairs, total = swapped(under_ref, errors)
-            rows.append([role, law, f"{len(pairs)} of {total}",
-                         "; ".join(f"{b} {errors[b]:.4g} < {a} {errors[a]:.4g} ({ref_law}: {a} {under_ref[a]:.4g} "
-                                   f"< {b} {under_ref[b]:.4g})" for a, b in pairs) or "none"])
+            cells = []
+            for budget in leaderboard.BUDGETS_MS:
+                if not r["ranked_by_field"]:
+                    cells.append("n/a (the beads rank)")
+                elif (law, budget) in changed:
+                    ref, other = changed[(law, budget)]
+                    cells.append(f"{best_text(other)} ({ref_law}: {best_text(ref)})")
+                else:
+                    cells.append("same")
+            rows.append([role, law, f"{len(pairs)} of {total}"] + cells)
+            pair_rows += [[role, law, both_within(a, b, r["medians"]), f"{a}, {b}",
+                           f"{under_ref[a]:.4g}, {under_ref[b]:.4g}", f"{errors[a]:.4g}, {errors[b]:.4g}"]
+                          for a, b in pairs]
             csv_rows += [[role, f"surface field, {law} as the reference", m, number(x), r["norms"]["surface field"]]
                          for m, x in errors.items()]
+        if r["ranked_by_field"]:  # the leaderboard's cells under each law (the reference's too)
+            for law, errors in r["rankings"].items():
+                for budget in leaderboard.BUDGETS_MS:
+                    best = best_within(errors, r["medians"], budget)
+                    if best:
+                        csv_rows.append([role, f"best within {budget:g} ms, {law} as the reference", best[0],
+                                         number(best[1]), r["norms"]["surface field"]])
     if not rows:
         return [], []
-    return ["", markdown_table(["role", "law as the reference", "pairs of ranked models in another order",
-                                "which (their errors under that law; under the reference's)"], rows), "",
-            "The ranking with another law's answer as the reference: each ranked model's surface error against that "
-            "law's case (relative to the reference's ||u_ref||, as above); a pair counts when the two models' order "
-            "differs from their order under the reference's law (errors equal to 1e-9 are a tie)."], csv_rows
+    md = ["", markdown_table(["role", "law as the reference", "pairs of ranked models in another order"]
+                             + [f"best within {b:g} ms" for b in leaderboard.BUDGETS_MS], rows), "",
+          "The ranking with another law's answer as the reference: each ranked model's surface error against that "
+          "law's case (relative to the reference's ||u_ref||, as above); a pair counts when the two models' order "
+          "differs from their order under the reference's law (errors equal to 1e-9 are a tie). Best within a "
+          "budget: the leaderboard's cell (the most accurate ranked case whose median frame fits it) with that "
+          "law's answer as the reference, where it goes to another case than under the reference's law (in "
+          "brackets), else same; on the Truth Cube the leaderboard ranks by the beads, which no law changes."]
+    if pair_rows:
+        md += ["", markdown_table(["role", "law as the reference", "both within", "models (the reference law's order)",
+                                   "their errors under the reference's law", "their errors under that law"],
+                                  pair_rows), "",
+               "Each pair of ranked models in another order, one a row: both within, the smallest per-frame budget "
+               "of the leaderboard (0.1, 1, 16 ms) both models' median frames fit, where the pair competes for a "
+               "cell; errors: the relative L2 of the surface field against each law's answer."]
+    return md, csv_rows
 
 
 def write(everything, exp, missing, tables):

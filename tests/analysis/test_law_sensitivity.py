@@ -1,7 +1,8 @@
 """analysis/law_sensitivity.py on a small results tree (test_leaderboard.py's cases):
 the difference between each pair of laws on the surface, the probes, the tool force
 and the Truth Cube's beads, beside the ranked models' spread; the ranking under each
-law's answer; the law references never ranked by the leaderboard; law cases run
+law's answer (the pairs in another order, the budget both fit, the leaderboard cells
+another law gives to another model); the law references never ranked by the leaderboard; law cases run
 alone scored beside the others (--with); a law reference whose answer inverts a tet
 left out and named; a law reference whose report names no law, or a case without its
 surface, is a one-line error."""
@@ -140,16 +141,40 @@ class LawSensitivity(unittest.TestCase):
             self.assertIn("| truth_cube_5 | 0 | 0.05 | 0.03 | 0.2 | 0.01 | 0.105 | 0.2 |", md)
             self.assertIn("from 0.08 (cube_pull_disc) to 0.08 (cube_pull_disc) of ||u_ref||", md)
             self.assertIn("Ranked models below the gap (surface field): cube_pull_disc (vbd, mymodel);", md)
-            # With the isochoric answer (1.05) as the reference, mymodel (1.02) is nearer than vbd (0.99).
-            self.assertIn("| cube_pull_disc | isochoric | 1 of 6 | mymodel 0.03 < vbd 0.06 (coupled: vbd 0.01 < "
-                          "mymodel 0.02) |", md)
-            self.assertIn("| cube_pull_disc | stable | 0 of 6 | none |", md)
-            self.assertIn("change order in cube_pull_disc (vbd/mymodel under isochoric);", md)
+            # With the isochoric answer (1.05) as the reference, mymodel (1.02) is nearer than vbd (0.99);
+            # vbd (60 ms) fits no budget, so no leaderboard cell changes.
+            self.assertIn("| cube_pull_disc | isochoric | 1 of 6 | same | same | same |", md)
+            self.assertIn("| cube_pull_disc | isochoric | over 16 ms | vbd, mymodel | 0.01, 0.02 | 0.06, 0.03 |", md)
+            self.assertIn("| cube_pull_disc | stable | 0 of 6 | same | same | same |", md)
+            self.assertIn("| truth_cube_5 | isochoric | 0 of 1 | n/a (the beads rank) |", md)
+            self.assertIn("change order in cube_pull_disc (1 pair under isochoric);", md)
+            self.assertIn("0 of the 12 leaderboard cells ranked by the surface field", md)
             with open(os.path.join(tmp, "tables", "law_sensitivity.csv")) as f:
                 rows = list(csv.reader(f))
             force = {r[2]: r[3] for r in rows if r[:2] == ["torus_grasp", "tool force"]}
             self.assertAlmostEqual(float(force["coupled vs isochoric"]), 0.05)
             self.assertEqual(force["models n"], "4")
+
+    def test_a_leaderboard_cell_another_law_gives_to_another_model(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            exp = write_suite(tmp)
+            path = os.path.join(exp, "pull", "vbd", "timings.json")
+            with open(path) as f:
+                timings = json.load(f)
+            timings["step"]["median_ms"] = 10.0  # vbd (0.01) now takes the 16 ms cell under the coupled law
+            with open(path, "w") as f:
+                json.dump(timings, f)
+            out = law_sensitivity.make(exp, tmp, write_bead_table(tmp))
+            changes = law_sensitivity.cell_changes(out["cube_pull_disc"])
+            self.assertEqual([(law, budget, ref[0], other[0]) for law, _, budget, ref, other in changes],
+                             [("isochoric", 16.0, "vbd", "mymodel")])
+            with open(os.path.join(tmp, "tables", "law_sensitivity.md")) as f:
+                md = f.read()
+            self.assertIn("| cube_pull_disc | isochoric | 1 of 6 | same | same | mymodel 0.03 (coupled: vbd 0.01) |",
+                          md)
+            self.assertIn("| cube_pull_disc | isochoric | 16 ms | vbd, mymodel | 0.01, 0.02 | 0.06, 0.03 |", md)
+            self.assertIn("1 of the 12 leaderboard cells ranked by the surface field (a scenario, a budget, a law) go "
+                          "to another model (1 within 16 ms: the next-to-last table).", md)
 
     def test_equal_errors_are_a_tie_not_a_swap(self):
         errors = {"fem-linear": 0.1, "condensed": 0.1 + 1e-12, "vbd": 0.2}
