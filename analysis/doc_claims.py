@@ -11,7 +11,8 @@ The convention (docs/design.md, "Findings pages"):
   `results/<study>/tables/*.md` or `.csv`), or to a heading of a page (`#anchor`,
   `page.md#anchor`) whose section holds a Markdown table.
 - Every number an item quotes is a number of a table it cites, rounded to the
-  significant digits quoted (`0.47` is the table's 0.469; `47 %` its 0.469 or 46.9).
+  significant digits quoted (`0.47` is the table's 0.469; `47 %` its 0.469 or 46.9;
+  `1.75x` its 1.75).
   Not claims, and so not checked: numbers in code spans (commands, parameter values:
   `iterations 10`), in link texts, in named references (eq. 19, table 1, section 1.4),
   years (1990-2039), orders of magnitude written 10^n, and integers up to
@@ -54,8 +55,21 @@ NAMED_REFERENCE = re.compile(
 YEAR = re.compile(r"\b(?:19[9]\d|20[0-3]\d)\b")
 POWER = re.compile(r"\b10\^-?\d+|\b\d+(?:\.\d+)?\s*[x*]\s*10\^-?\d+")
 # A number as written: digits grouped by spaces in thousands (17 800), a decimal part,
-# an exponent; a following % makes it a percentage.
-NUMBER = re.compile(r"(?<![\w.])(\d{1,3}(?: \d{3})+|\d+)(\.\d+)?(e[-+]?\d+)?(?![\w])(\s?%)?")
+# an exponent; an x after it is a factor (1.75x); a following % makes it a percentage,
+# and the first end of a range whose second is one (95-97 %).
+NUMBER = re.compile(r"(?<![\w.])(\d{1,3}(?: \d{3})+|\d+)(\.\d+)?(e[-+]?\d+)?x?(?![\w]|\.\d)(\s?%)?")
+PERCENT_RANGE_END = re.compile(r"\s*(?:-|to)\s*\d[\d.]*(?:e[-+]?\d+)?\s?%")
+
+
+# A block a script writes between markers (<!-- name:begin ... --> ... <!-- name:end -->):
+# its tables are checked by their own tests, and their notes say where and when they
+# were measured, commit included.
+GENERATED = re.compile(r"<!-- (\w+):begin.*?<!-- \1:end -->", re.S)
+
+
+def without_generated(text):
+    """The text with generated blocks blanked (line breaks kept)."""
+    return GENERATED.sub(lambda m: "\n" * m.group(0).count("\n"), text)
 
 
 def without_code(text):
@@ -74,6 +88,7 @@ def quoted_numbers(text):
     out = []
     for m in NUMBER.finditer(text):
         integer, fraction, exponent, percent = m.group(1), m.group(2) or "", m.group(3) or "", m.group(4)
+        percent = percent or PERCENT_RANGE_END.match(text, m.end())
         digits = integer.replace(" ", "")
         written = digits + fraction + exponent
         value = float(written)
@@ -243,7 +258,7 @@ def commit_problems(path, text):
 
 def check_findings_page(path):
     with open(path, encoding="utf-8") as f:
-        text = f.read()
+        text = without_generated(f.read())
     rel = os.path.relpath(path, ROOT)
     section = summary_section(without_code(text))
     if section is None:
@@ -260,13 +275,10 @@ def check_findings_page(path):
     return problems + commit_problems(path, text)
 
 
-GENERATED = re.compile(r"<!-- (\w+):begin.*?<!-- \1:end -->", re.S)
-
-
 def check_readme(path):
     with open(path, encoding="utf-8") as f:
-        text = f.read()
-    prose = without_code(GENERATED.sub(lambda m: "\n" * m.group(0).count("\n"), text))
+        text = without_generated(f.read())
+    prose = without_code(text)
     problems = []
     for line, block in blocks(prose):
         problems += check_block(path, line, block, require_citation=False)

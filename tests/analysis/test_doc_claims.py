@@ -33,6 +33,12 @@ class QuotedNumbers(unittest.TestCase):
         self.assertEqual(self.numbers("0.469 and 1.6e-3, 47 % and 17 800 tets"),
                          [(0.469, 3, False), (1.6e-3, 2, False), (47.0, 2, True), (17800.0, 3, False)])
 
+    def test_factors_and_percentage_ranges(self):
+        self.assertEqual(self.numbers("1.75x and 10x, 95-97 % and 3 to 4 %"),
+                         [(1.75, 3, False), (10.0, 1, False), (95.0, 2, True), (97.0, 2, True), (3.0, 1, True),
+                          (4.0, 1, True)])
+        self.assertEqual(self.numbers("10k vertices, v1.2b"), [])
+
     def test_ranges_split_into_their_ends(self):
         self.assertEqual([c[0] for c in doc_claims.quoted_numbers("0.04-0.47 and 1.1e-4-1.6e-3")],
                          [0.04, 0.47, 1.1e-4, 1.6e-3])
