@@ -22,7 +22,8 @@ namespace tb {
 SurfaceMesh read_surface(const std::string& path, double unit_scale = 1.0);
 
 /// Reads a tetrahedral volume; the format follows the extension:
-///   .msh  Gmsh version 1 or 2 ASCII; tetrahedra kept, other element types ignored
+///   .msh  Gmsh version 1, 2 or 4.1 ASCII; tetrahedra kept, other element types ignored
+///         (4.1: node tags may be sparse and in any order; nodes keep the file's order)
 ///   .ele  TetGen (.node beside it, same stem)
 ///   .node TetGen (.ele beside it, same stem)
 ///   .vtu  ASCII VTK unstructured grid; tetrahedra kept
@@ -47,5 +48,8 @@ void write_volume_vtu(const std::string& path, const TetMesh& mesh, const std::v
 void write_points_vtu(const std::string& path, const Points& points, const std::vector<PointField>& fields = {});
 /// Writes a surface as Wavefront OBJ.
 void write_obj(const std::string& path, const SurfaceMesh& mesh);
+/// Writes a tet volume as Gmsh 4.1 ASCII .msh: one volume entity holding every node
+/// (tags 1..#V in order) and every tet (type 4); read_volume reads it back exactly.
+void write_gmsh41(const std::string& path, const TetMesh& mesh);
 
 }  // namespace tb

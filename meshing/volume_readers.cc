@@ -1,8 +1,11 @@
-// Readers for tetrahedral volumes: Gmsh .msh v1/v2 ASCII, TetGen .node/.ele/.face,
+// Readers for tetrahedral volumes: Gmsh .msh v1/v2/v4.1 ASCII, TetGen .node/.ele/.face,
 // VTU. Each result passes orient_and_check_tets (mesh_checks.h) before it returns.
+// Also the Gmsh 4.1 writer (write_gmsh41), beside the reader of its format.
 #include <algorithm>
 #include <filesystem>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 #include <unordered_map>
 
 #include "atomic_file.h"
@@ -68,19 +71,171 @@ void expect_section_end(LineCursor& c, const std::string& end) {
   if (t[0] != end) c.fail("expected " + end + ", found '" + detail::shown(t[0]) + "'");
 }
 
+/// The four numbers opening a Gmsh 4.1 $Nodes or $Elements section or one of its
+/// blocks; fails naming `what` when there are fewer.
+std::vector<std::string> four_numbers(LineCursor& c, const std::string& what, const std::string& fields) {
+  auto h = c.next(what);
+  if (h.size() < 4) c.fail(what + " needs 4 numbers (" + fields + "), found " + std::to_string(h.size()));
+  return h;
+}
+
+/// The [min, max] tag range of a Gmsh 4.1 section header holding `count` items.
+std::array<long, 2> tag_range(LineCursor& c, const std::vector<std::string>& h, long count, const std::string& what) {
+  const long lo = to_long(c, h[2]), hi = to_long(c, h[3]);
+  if (count > 0 && (lo < 0 || hi < lo))
+    c.fail(what + " tags range from " + detail::shown(h[2]) + " to " + detail::shown(h[3]));
+  return {lo, hi};
+}
+
+/// An entity block's dimension: 0 (point) to 3 (volume).
+long entity_dimension(LineCursor& c, const std::string& token) {
+  const long dim = to_long(c, token);
+  if (dim < 0 || dim > 3) c.fail("entity dimension " + detail::shown(token) + " is not 0, 1, 2 or 3");
+  return dim;
+}
+
+/// Gmsh 4.1 $Entities: its counts and every entity line are checked (points: tag,
+/// x y z, physical tags; curves, surfaces, volumes: tag, bounding box, physical
+/// tags, bounding entities), then the block is dropped: tets need none of it.
+void skip_entities41(LineCursor& c) {
+  const auto h = four_numbers(c, "$Entities header", "points, curves, surfaces, volumes");
+  static const char* const kKinds[4] = {"point", "curve", "surface", "volume"};
+  std::array<long, 4> n{};
+  for (int d = 0; d < 4; ++d) n[d] = c.count(h[d], std::string(kKinds[d]) + " entities", 0, 10);
+  for (int d = 0; d < 4; ++d)
+    for (long i = 0; i < n[d]; ++i) {
+      const std::string kind = kKinds[d];
+      auto e = c.next(kind + " entity " + std::to_string(i + 1) + " of " + std::to_string(n[d]));
+      // A list: its length at e[at], then that many integers; returns the index after it.
+      auto list = [&](size_t at, const std::string& of) {
+        if (e.size() <= at) c.fail(kind + " entity line ends before its number of " + of);
+        const long k = to_long(c, e[at]);
+        if (k < 0 || k > static_cast<long>(e.size() - at - 1))
+          c.fail(kind + " entity says " + detail::shown(e[at]) + " " + of + " and has " +
+                 std::to_string(e.size() - at - 1) + " fields left");
+        for (size_t j = at + 1; j <= at + static_cast<size_t>(k); ++j) to_long(c, e[j]);
+        return at + 1 + static_cast<size_t>(k);
+      };
+      const size_t reals = d == 0 ? 3 : 6;  // x y z, or a bounding box
+      if (e.size() < 1 + reals) c.fail(kind + " entity line has " + std::to_string(e.size()) + " fields");
+      to_long(c, e[0]);
+      for (size_t j = 1; j <= reals; ++j) to_double(c, e[j]);
+      size_t end = list(1 + reals, "physical tags");
+      if (d > 0) end = list(end, "bounding entities");
+      if (end != e.size())
+        c.fail(kind + " entity line has " + std::to_string(e.size()) + " fields, its counts say " +
+               std::to_string(end));
+    }
+  expect_section_end(c, "$EndEntities");
+}
+
+/// Gmsh 4.1 $Nodes: entity blocks of tags then coordinates (x y z, and u v w up
+/// to the entity's dimension when parametric). Nodes are kept in file order.
+void read_nodes41(LineCursor& c, IdMesh& m) {
+  const auto h = four_numbers(c, "$Nodes header", "entity blocks, nodes, smallest and largest node tag");
+  // A block takes a header line (>= 8 bytes); a node a tag and a coordinate line (>= 8).
+  const long blocks = c.count(h[0], "node entity blocks", 0, 8);
+  const long n = c.count(h[1], "nodes", sizeof(long) + sizeof(std::array<double, 3>), 8);
+  const auto [lo, hi] = tag_range(c, h, n, "node");
+  m.ids.reserve(m.ids.size() + static_cast<size_t>(n));
+  m.points.reserve(m.points.size() + static_cast<size_t>(n));
+  long left = n;
+  std::vector<long> tags;
+  for (long b = 0; b < blocks; ++b) {
+    const std::string block = "node block " + std::to_string(b + 1) + " of " + std::to_string(blocks);
+    const auto bh = four_numbers(c, block, "entity dimension and tag, parametric, nodes");
+    const long dim = entity_dimension(c, bh[0]);
+    to_long(c, bh[1]);
+    const long parametric = to_long(c, bh[2]);
+    if (parametric != 0 && parametric != 1) c.fail("parametric flag " + detail::shown(bh[2]) + " is not 0 or 1");
+    const long k = c.count(bh[3], "nodes in a block", 0, 8);
+    if (k > left)
+      c.fail(block + " says " + bh[3] + " nodes, more than the " + std::to_string(left) + " the $Nodes header leaves");
+    left -= k;
+    tags.clear();
+    for (long i = 0; i < k; ++i) {
+      const auto t = c.next("node tag " + std::to_string(i + 1) + " of " + std::to_string(k) + " in " + block);
+      if (t.size() != 1) c.fail("expected one node tag on the line, found " + std::to_string(t.size()) + " fields");
+      const long tag = to_long(c, t[0]);
+      if (tag < lo || tag > hi)
+        c.fail("node tag " + t[0] + " is outside the range " + h[2] + " to " + h[3] + " of the $Nodes header");
+      tags.push_back(tag);
+    }
+    const size_t fields = 3 + static_cast<size_t>(parametric * dim);
+    for (long i = 0; i < k; ++i) {
+      const auto p = c.next("coordinates of node " + std::to_string(tags[static_cast<size_t>(i)]));
+      if (p.size() != fields)
+        c.fail("node " + std::to_string(tags[static_cast<size_t>(i)]) + " needs " + std::to_string(fields) +
+               " coordinates, found " + std::to_string(p.size()));
+      for (size_t j = 3; j < fields; ++j) to_double(c, p[j]);  // parametric u v w, unused
+      m.ids.push_back(tags[static_cast<size_t>(i)]);
+      m.points.push_back(read_xyz(c, p, 0));
+    }
+  }
+  if (left) c.fail("the node blocks hold " + std::to_string(n - left) + " nodes, the $Nodes header says " + h[1]);
+  expect_section_end(c, "$EndNodes");
+}
+
+/// Gmsh 4.1 $Elements: entity blocks of one element type each, a line `tag nodes...`
+/// per element. Tetrahedra (type 4) are kept; other types are skipped, as in v1/v2.
+void read_elements41(LineCursor& c, IdMesh& m) {
+  const auto h = four_numbers(c, "$Elements header", "entity blocks, elements, smallest and largest element tag");
+  // Elements other than tetrahedra are skipped, so the counts bound no allocation.
+  const long blocks = c.count(h[0], "element entity blocks", 0, 8);
+  const long n = c.count(h[1], "elements", 0, 4);
+  const auto [lo, hi] = tag_range(c, h, n, "element");
+  long left = n;
+  for (long b = 0; b < blocks; ++b) {
+    const std::string block = "element block " + std::to_string(b + 1) + " of " + std::to_string(blocks);
+    const auto bh = four_numbers(c, block, "entity dimension and tag, element type, elements");
+    entity_dimension(c, bh[0]);
+    to_long(c, bh[1]);
+    const long type = to_long(c, bh[2]);
+    const long k = c.count(bh[3], "elements in a block", 0, 4);
+    if (k > left)
+      c.fail(block + " says " + bh[3] + " elements, more than the " + std::to_string(left) +
+             " the $Elements header leaves");
+    left -= k;
+    for (long i = 0; i < k; ++i) {
+      const auto e = c.next("element " + std::to_string(i + 1) + " of " + std::to_string(k) + " in " + block);
+      if (e.size() < 2) c.fail("element line needs a tag and its nodes");
+      const long tag = to_long(c, e[0]);
+      if (tag < lo || tag > hi)
+        c.fail("element tag " + e[0] + " is outside the range " + h[2] + " to " + h[3] + " of the $Elements header");
+      if (type != 4) continue;  // 4 = 4-node tetrahedron; points, lines, triangles ignored
+      if (e.size() != 5) c.fail("tetrahedron needs a tag and 4 nodes, found " + std::to_string(e.size()) + " fields");
+      m.tets.push_back({to_long(c, e[1]), to_long(c, e[2]), to_long(c, e[3]), to_long(c, e[4])});
+    }
+  }
+  if (left)
+    c.fail("the element blocks hold " + std::to_string(n - left) + " elements, the $Elements header says " + h[1]);
+  expect_section_end(c, "$EndElements");
+}
+
 TetMesh read_msh(const std::string& file, double scale) {
   LineCursor c(file, read_file(file), 0);
   IdMesh m;
-  bool v2 = false, have_nodes = false, have_elements = false;
+  bool v2 = false, v41 = false, have_nodes = false, have_elements = false;
   while (!c.at_end()) {
     auto t = c.next("a section");
     if (t[0] == "$MeshFormat") {
       auto f = c.next("mesh format");
       if (f.size() < 3) c.fail("malformed $MeshFormat");
-      if (f[0][0] != '2') c.fail("unsupported Gmsh version " + detail::shown(f[0]) + " (versions 1 and 2 are read)");
-      if (f[1] != "0") c.fail("binary Gmsh files are not supported");
+      v41 = f[0] == "4.1";
+      if (f[0][0] != '2' && !v41)
+        c.fail("unsupported Gmsh version " + detail::shown(f[0]) + " (versions 1, 2 and 4.1 are read)");
+      if (f[1] != "0")
+        c.fail("binary Gmsh files are not supported (file type " + detail::shown(f[1]) + "; save as ASCII)");
       v2 = true;
       expect_section_end(c, "$EndMeshFormat");
+    } else if (v41 && t[0] == "$Entities") {
+      skip_entities41(c);
+    } else if (v41 && t[0] == "$Nodes") {
+      read_nodes41(c, m);
+      have_nodes = true;
+    } else if (v41 && t[0] == "$Elements") {
+      read_elements41(c, m);
+      have_elements = true;
     } else if (t[0] == "$NOD" || t[0] == "$Nodes") {
       const long n = c.count(c.next("node count")[0], "nodes", sizeof(long) + sizeof(std::array<double, 3>));
       m.ids.reserve(m.ids.size() + static_cast<size_t>(n));
@@ -181,6 +336,42 @@ Triangles read_tetgen_faces(const std::string& face_path, int first_index) {
     }
   }
   return F;
+}
+
+void write_gmsh41(const std::string& path, const TetMesh& m) {
+  const Eigen::Index n = m.V.rows(), t = m.T.rows();
+  for (Eigen::Index e = 0; e < t; ++e)
+    for (int k = 0; k < 4; ++k)
+      if (m.T(e, k) < 0 || m.T(e, k) >= n)
+        throw std::runtime_error(path + ": tetrahedron " + std::to_string(e) + " names node " +
+                                 std::to_string(m.T(e, k)) + " of a mesh of " + std::to_string(n) + " nodes");
+  std::ostringstream os;
+  os << std::setprecision(17);
+  os << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  // One volume entity (tag 1): its bounding box, no physical tags, no bounding surfaces.
+  Eigen::RowVector3d lo = Eigen::RowVector3d::Zero(), hi = Eigen::RowVector3d::Zero();
+  if (n) {
+    lo = m.V.colwise().minCoeff();
+    hi = m.V.colwise().maxCoeff();
+  }
+  os << "$Entities\n0 0 0 1\n1 " << lo(0) << ' ' << lo(1) << ' ' << lo(2) << ' ' << hi(0) << ' ' << hi(1) << ' '
+     << hi(2) << " 0 0\n$EndEntities\n";
+  // Node tags 1..n in the mesh's order, element tags 1..t.
+  os << "$Nodes\n" << (n ? 1 : 0) << ' ' << n << ' ' << (n ? 1 : 0) << ' ' << n << '\n';
+  if (n) {
+    os << "3 1 0 " << n << '\n';
+    for (Eigen::Index i = 0; i < n; ++i) os << i + 1 << '\n';
+    for (Eigen::Index i = 0; i < n; ++i) os << m.V(i, 0) << ' ' << m.V(i, 1) << ' ' << m.V(i, 2) << '\n';
+  }
+  os << "$EndNodes\n$Elements\n" << (t ? 1 : 0) << ' ' << t << ' ' << (t ? 1 : 0) << ' ' << t << '\n';
+  if (t) {
+    os << "3 1 4 " << t << '\n';
+    for (Eigen::Index e = 0; e < t; ++e)
+      os << e + 1 << ' ' << m.T(e, 0) + 1 << ' ' << m.T(e, 1) + 1 << ' ' << m.T(e, 2) + 1 << ' ' << m.T(e, 3) + 1
+         << '\n';
+  }
+  os << "$EndElements\n";
+  write_file_atomically(path, os.str());
 }
 
 TetMesh read_volume(const std::string& path, double unit_scale, FlatTets flat) {

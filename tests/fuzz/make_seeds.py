@@ -136,6 +136,25 @@ def gmsh1(V, T):
     return out + "$ENDELM\n"
 
 
+def gmsh41(V, T, tag=lambda i: i + 1):
+    """Gmsh 4.1 ASCII: $Entities, the nodes in blocks (a point, a parametric surface
+    block with u v, an empty curve block, the volume), a point, a triangle and the tets."""
+    tags = [tag(i) for i in range(len(V))]
+    out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"tissue\"\n$EndPhysicalNames\n"
+    out += "$Entities\n1 1 1 1\n1 0 0 0 0\n1 0 0 0 1 0 0 0 2 1 -1\n1 0 0 0 1 1 0 0 1 1\n1 0 0 0 1 1 1 1 1 1 1\n"
+    out += "$EndEntities\n"
+    blocks = [(0, 0, range(0, 1)), (2, 1, range(1, 3)), (1, 0, range(3, 3)), (3, 0, range(3, len(V)))]
+    out += f"$Nodes\n{len(blocks)} {len(V)} {min(tags)} {max(tags)}\n"
+    for dim, parametric, nodes in blocks:
+        out += f"{dim} 1 {parametric} {len(nodes)}\n" + "".join(f"{tags[i]}\n" for i in nodes)
+        out += "".join(f"{V[i][0]} {V[i][1]} {V[i][2]}" + (" 0.5 0.5" if parametric else "") + "\n" for i in nodes)
+    out += f"$EndNodes\n$Elements\n3 {len(T) + 2} 1 {len(T) + 2}\n0 1 15 1\n1 {tags[0]}\n"
+    out += "2 1 2 1\n2 " + " ".join(str(tags[n]) for n in CUBE_F[0]) + "\n"
+    out += f"3 1 4 {len(T)}\n" + "".join(f"{k + 3} " + " ".join(str(tags[n]) for n in t) + "\n"
+                                           for k, t in enumerate(T))
+    return out + "$EndElements\n"
+
+
 def tetgen(V, T, first=1):
     node = f"# nodes\n{len(V)} 3 1 1\n" + "".join(
         f"{i + first} {x} {y} {z} 0.5 1\n" for i, (x, y, z) in enumerate(V))
@@ -188,6 +207,8 @@ def main():
     write("gmsh", "cube_v2.msh", gmsh2(CUBE_V, CUBE_TETS))
     write("gmsh", "cube_v2_ids.msh", gmsh2(CUBE_V, CUBE_TETS, offset_ids=100))
     write("gmsh", "cube_v1.msh", gmsh1(CUBE_V, CUBE_TETS))
+    write("gmsh", "cube_v41.msh", gmsh41(CUBE_V, CUBE_TETS))
+    write("gmsh", "cube_v41_sparse_tags.msh", gmsh41(CUBE_V, CUBE_TETS, tag=lambda i: (5 * i) % 8 * 7 + 3))
     write("tetgen", "cube_1based", tetgen(CUBE_V, CUBE_TETS, first=1))
     write("tetgen", "cube_0based", tetgen(CUBE_V, CUBE_TETS, first=0))
     write("tetgen_face", "tet.face", faces(TET_F))

@@ -106,6 +106,89 @@ TEST_F(MalformedInputs, NumbersEndAtTheirTokensEnd) {
   expect_refused(surface, "nul.obj", std::string("v 0 0 1\0x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 34), "expected a number");
 }
 
+// Gmsh 4.1: a valid tetrahedron (kHead41 + kNodes41 + kElements41), then each part broken.
+// Aimed at, not found: the format's seeds are the valid tests/fuzz/corpus/gmsh/cube_v41*.msh.
+const std::string kHead41 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+const std::string kNodes41 = "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n" + std::string(kTetVertices) + "$EndNodes\n";
+const std::string kElements41 = "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n";
+
+TEST_F(MalformedInputs, Gmsh41CountsAndTagsAreCheckedBeforeUse) {
+  EXPECT_EQ(read_volume(write("ok41.msh", kHead41 + kNodes41 + kElements41)).T.rows(), 1);
+  // Counts larger than the rest of the file, refused before anything is allocated.
+  expect_refused(volume, "nodes41.msh", kHead41 + "$Nodes\n1 99999999999 1 4\n3 1 0 4\n1\n",
+                 "the header says 99999999999 nodes");
+  expect_refused(volume, "blocks41.msh", kHead41 + "$Nodes\n99999999 4 1 4\n3 1 0 4\n1\n",
+                 "the header says 99999999 node entity blocks");
+  expect_refused(volume, "elements41.msh", kHead41 + kNodes41 + "$Elements\n1 4000000000 1 1\n3 1 4 1\n",
+                 "the header says 4000000000 elements");
+  expect_refused(volume, "elementblock41.msh", kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 4000000000\n",
+                 "the header says 4000000000 elements in a block");
+  expect_refused(volume, "entities41.msh", kHead41 + "$Entities\n99999999 0 0 0\n1 0 0 0 0\n$EndEntities\n",
+                 "the header says 99999999 point entities");
+  // Blocks holding more or fewer than the section's header says.
+  expect_refused(volume, "over41.msh",
+                 kHead41 + "$Nodes\n1 4 1 4\n3 1 0 5\n1\n2\n3\n4\n" + kTetVertices + "$EndNodes\n" + kElements41,
+                 "line 6: node block 1 of 1 says 5 nodes, more than the 4 the $Nodes header leaves");
+  expect_refused(volume, "under41.msh",
+                 kHead41 + "$Nodes\n1 4 1 4\n3 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n" + kElements41,
+                 "the node blocks hold 3 nodes, the $Nodes header says 4");
+  expect_refused(volume, "underelements41.msh",
+                 kHead41 + kNodes41 + "$Elements\n1 2 1 2\n3 1 4 1\n1 1 2 3 4\n$EndElements\n",
+                 "the element blocks hold 1 elements, the $Elements header says 2");
+  // Tags outside the header's range; an element naming a node no block defines.
+  expect_refused(volume, "tag41.msh",
+                 kHead41 + "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n9\n4\n" + kTetVertices + "$EndNodes\n" + kElements41,
+                 "line 9: node tag 9 is outside the range 1 to 4 of the $Nodes header");
+  expect_refused(volume, "elementtag41.msh",
+                 kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 1\n5 1 2 3 4\n$EndElements\n",
+                 "element tag 5 is outside the range 1 to 1");
+  expect_refused(volume, "missing41.msh", kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 7\n$EndElements\n",
+                 "1 tetrahedron node references out of range (e.g. node 7 is not defined)");
+  expect_refused(
+      volume, "twice41.msh",
+      kHead41 + "$Nodes\n2 4 1 4\n3 1 0 2\n1\n2\n0 0 0\n1 0 0\n3 1 0 2\n2\n4\n0 1 0\n0 0 1\n$EndNodes\n" + kElements41,
+      "node id 2 defined twice");
+}
+
+TEST_F(MalformedInputs, Gmsh41LinesHoldWhatTheirCountsSay) {
+  expect_refused(volume, "param41.msh",
+                 kHead41 + "$Nodes\n1 4 1 4\n3 1 1 4\n1\n2\n3\n4\n" + kTetVertices + "$EndNodes\n" + kElements41,
+                 "line 11: node 1 needs 6 coordinates, found 3");
+  expect_refused(volume, "tags41.msh", kHead41 + "$Nodes\n1 4 1 4\n3 1 0 4\n1 2 3 4\n" + kTetVertices,
+                 "expected one node tag on the line, found 4 fields");
+  expect_refused(volume, "dim41.msh", kHead41 + "$Nodes\n1 4 1 4\n4 1 0 4\n1\n2\n3\n4\n" + kTetVertices,
+                 "entity dimension 4 is not 0, 1, 2 or 3");
+  expect_refused(volume, "tet41.msh", kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3\n$EndElements\n",
+                 "tetrahedron needs a tag and 4 nodes, found 4 fields");
+  expect_refused(volume, "physical41.msh", kHead41 + "$Entities\n1 0 0 0\n1 0 0 0 2 5\n$EndEntities\n",
+                 "point entity says 2 physical tags and has 1 fields left");
+  expect_refused(volume, "bounding41.msh", kHead41 + "$Entities\n0 0 0 1\n1 0 0 0 1 1 1 0 3 1 2\n$EndEntities\n",
+                 "volume entity says 3 bounding entities and has 2 fields left");
+  expect_refused(volume, "entityline41.msh", kHead41 + "$Entities\n0 0 1 0\n1 0 0 0 1 1 1 0 0 7\n$EndEntities\n",
+                 "surface entity line has 10 fields, its counts say 9");
+  expect_refused(volume, "header41.msh", kHead41 + "$Nodes\n1 4\n", "$Nodes header needs 4 numbers");
+}
+
+TEST_F(MalformedInputs, Gmsh41FilesEndWhereTheirSectionsSay) {
+  // Counts the file can hold, but it ends inside $Nodes.
+  expect_refused(volume, "truncated41.msh",
+                 kHead41 + "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n",
+                 "truncated file (expected coordinates of node 4)");
+  expect_refused(volume, "noend41.msh", kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n",
+                 "truncated file (expected $EndElements)");
+  expect_refused(volume, "otherend41.msh",
+                 kHead41 + kNodes41 + "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$NodeData\n$EndNodeData\n",
+                 "line 20: expected $EndElements, found '$NodeData'");
+  expect_refused(volume, "entitiesend41.msh", kHead41 + "$Entities\n1 0 0 0\n1 0 0 0 0\n" + kNodes41,
+                 "expected $EndEntities, found '$Nodes'");
+  // Binary 4.1 (file type 1) and 4.0 are refused at the format line.
+  expect_refused(volume, "binary41.msh",
+                 kHead41.substr(0, 12) + "4.1 1 8\n" + std::string("\x01\0\0\0\n", 5) + "$EndMeshFormat\n$Nodes\n",
+                 "line 2: binary Gmsh files are not supported (file type 1; save as ASCII)");
+  expect_refused(volume, "v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n" + kNodes41 + kElements41,
+                 "unsupported Gmsh version 4 (versions 1, 2 and 4.1 are read)");
+}
+
 TEST_F(MalformedInputs, MessagesAreOneLineWhateverTheInputHolds) {
   EXPECT_EQ(one_line("a\nb\rc\x01"), "a\\nb\\rc\\x01");
   EXPECT_EQ(one_line(std::string(10, 'x'), 4), "xxxx ... (6 more characters)");
