@@ -79,7 +79,7 @@ std::vector<Target> mesh_targets() {
   t.push_back(surface_target("ply_ascii", "ply", "PLY surface, ascii"));
   t.push_back(surface_target("ply_binary", "ply", "PLY surface, binary little and big endian"));
   t.push_back(surface_target("vtu_surface", "vtu", "VTU triangle surface (read_vtu_cells)"));
-  t.push_back(volume_target("gmsh", "msh", "Gmsh .msh volume, versions 1 and 2 (read_volume)"));
+  t.push_back(volume_target("gmsh", "msh", "Gmsh .msh volume, versions 1, 2 and 4.1 ASCII (read_volume)"));
   t.push_back(
       {"tetgen",
        "TetGen .node + .ele volume (read_volume); the input is the .node text, a '#--ele--' line, the .ele text",
@@ -137,9 +137,9 @@ std::vector<Target> mesh_targets() {
                                         " 5\n",
                                         " 10\n"};
   const std::vector<std::string> msh = {
-      "$MeshFormat", "$EndMeshFormat", "2.2 0 8", "$Nodes",  "$EndNodes",      "$Elements",         "$EndElements",
-      "$NOD",        "$ENDNOD",        "$ELM",    "$ENDELM", "$PhysicalNames", "$EndPhysicalNames", " 4 ",
-      " 2 ",         "$Comments"};
+      "$MeshFormat", "$EndMeshFormat", "2.2 0 8", "$Nodes",    "$EndNodes",      "$Elements",         "$EndElements",
+      "$NOD",        "$ENDNOD",        "$ELM",    "$ENDELM",   "$PhysicalNames", "$EndPhysicalNames", " 4 ",
+      " 2 ",         "$Comments",      "4.1 0 8", "$Entities", "$EndEntities"};
   const std::vector<std::string> tetgen = {"# ", " 3 0 0", " 4 0", " 4 1", "\n#--ele--\n", " 1 ", " 0 "};
   const std::vector<std::pair<std::string, const std::vector<std::string>*>> words = {
       {"obj", &obj},        {"off", &off},         {"stl_ascii", &stl}, {"stl_binary", &stl}, {"ply_ascii", &ply},
