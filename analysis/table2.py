@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import results_index  # noqa: E402
-from table_io import (LOAD_CASES, ROLES, case_legend, fmt, machine_note, ordered_for_paper, paper_value,  # noqa: E402
+from table_io import (LOAD_CASES, ROLES, case_table, fmt, machine_note, ordered_for_paper, paper_value,  # noqa: E402
                       paper_values, write_table)
 
 
@@ -40,9 +40,9 @@ def make(exp_dir, out_dir):
                  "push paper (ms)", "setup, pull (ms)"], rows,
                 "Per-frame time of step(), median and p95 over every frame run. Dynamic models (PBD, hybrid) run "
                 "until steady; static ones (FEM) solve once per frame, the load ramping so every frame is a new "
-                "solve. " + case_legend({c: pull[c] for c in cases}) + " Model descriptions and every parameter "
-                "value are in each case's run.json; the paper's FEM is one number and its solver is not stated. " +
-                machine_note(pull) + f" Paper: {paper['machine']}.")
+                "solve. Model descriptions and every parameter value are in each case's run.json; the paper's FEM "
+                "is one number and its solver is not stated. " + machine_note(pull) + f" Paper: {paper['machine']}."
+                "\n\n" + case_table({c: pull[c] for c in cases}))
     return cases
 
 

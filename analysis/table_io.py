@@ -112,20 +112,9 @@ def busy_cases(cases):
     return busy
 
 
-def case_legend(cases):
-    """'case: model (parameters the scenario set)' for every case, from run.json."""
-    parts = []
-    for name, c in cases.items():
-        run = c["run"]
-        given = run.get("parameters_given", run.get("parameters", {}))
-        settings = ", ".join(f"{k} {v}" for k, v in sorted(given.items()))
-        parts.append(f"{name}: {run.get('model', name)}" + (f" ({settings})" if settings else ""))
-    return "Cases: " + "; ".join(parts) + "."
-
-
 def case_table(cases):
     """A Markdown table of every case: its model and the parameters the scenario set
-    (from run.json), one row a case (case_legend's content, for long lists)."""
+    (from run.json), one row a case."""
     rows = []
     for name, c in cases.items():
         run = c["run"]
