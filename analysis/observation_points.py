@@ -451,6 +451,8 @@ class RolePoints:
             raise ResultsError(f"{self.folder}/run.json: observe.vertices '{observe}' (known: {', '.join(PATCHES)})")
         self.patch, self.patch_description = PATCHES[observe]
         self.vertex, self.rest, _ = metrics.read_displacements(os.path.join(self.folder, "top_surface.csv"))
+        if observe == "top" and self.rest is not None:
+            self.patch_description += f", at z = {self.rest[:, 2].max():.6g} m"
         self.names = [f"s{v}" for v in self.vertex]
         self.source = converged_fields.surface_source(case)
         self.interior = interior_points(case)
