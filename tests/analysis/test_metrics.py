@@ -217,7 +217,7 @@ class AnalysisReadsTheModelListFromResults(unittest.TestCase):
             self.assertIn("my-variant,relative L2 error", t1m)
             t2 = read(os.path.join(out, "table2.csv"))
             self.assertIn("my-variant,0.50,1.00,,0.50,1.00,,1", t2)
-            self.assertIn("my-variant: some-new-model (iterations 10)", read(os.path.join(out, "table2.md")))
+            self.assertIn("| my-variant | some-new-model | iterations 10 |", read(os.path.join(out, "table2.md")))
             self.assertIn("my-variant", read(os.path.join(out, "table3_metrics.csv")))
             figures = os.path.join(tmp, "figures")
             os.makedirs(figures)
