@@ -17,8 +17,9 @@ with their rest coordinates, so that any model can be read at them:
 - third-party geometry is never written with coordinates (README "Data"): the liver's
   surface points give `source_vertex`, the vertex's index in the surface the runner
   builds from the data directory's liver-smooth.obj (the index every committed liver CSV
-  uses), and the beads their table row; LIVER_COORDINATES and BEAD_COORDINATES say
-  how a reader gets the coordinates.
+  uses), and `file_vertex`, its vertex in that file (REPAIRED_SURFACES); the beads give
+  their table row. FILE_COORDINATES and BEAD_COORDINATES say how a reader gets the
+  coordinates; surface_coordinates gets them.
 
 The converged answer at the surface points is converged_fields.read()'s field (the
 reference study's finest run at the suite mesh's vertices), at the probes that run's
@@ -54,8 +55,9 @@ REFERENCE_ERRORS = leaderboard.REFERENCE_ERRORS
 
 # A point farther than this fraction of the bounding-box diagonal of the model's rest
 # surface (or volume) is an error: another frame, another unit, another body. A coarser
-# model's facets of a curved boundary lie far closer (the torus at 10 segments a circle:
-# 0.8 % of the diagonal; the liver's coarse surface within 1 mm of the fine one, 1 %).
+# model's facets of a curved boundary lie closer: the suite torus's points are within 0.9 %
+# of the diagonal of the torus generated at resolution 10 (200 vertices; 3.7 % at 5), the
+# liver's coarse mesh within 1 mm (1 %) of its fine surface (run.json max_embedding_distance).
 REL_TOLERANCE = 0.02
 INSIDE_TOLERANCE = 1e-12  # barycentric weight below zero still counted inside a tet (rounding)
 CANDIDATES = 8  # nearest centroids whose exact distance bounds the search radius
@@ -65,13 +67,25 @@ PATCHES = {
                         "(the cube's face the disc load or the sphere acts on)"),
     "all": ("whole_surface", "the whole surface: every vertex of the body's boundary surface"),
 }
-LIVER_COORDINATES = (
-    "source_vertex is the vertex's index in the surface the runner builds from the data directory's "
-    "meshes/liver-smooth.obj (its vertices scaled by unit_scale 0.01 to metres, its self-intersections "
-    "repaired by CGAL, which drops some of the file's vertices: surface_vertices_before_repair), the index "
-    "every committed liver CSV uses. Its coordinates: `tissuebench mesh <the scenario file> --out DIR` writes "
-    "that surface (DIR/.../fine_surface.vtu, point source_vertex), as a run writes it to <scenario>/mesh/ "
-    "(analysis/results_index.py, observed_rest).")
+FILE_COORDINATES = (
+    "source_vertex: the vertex's index in the surface the runner builds from the data directory's file "
+    "(source.surface: its vertices times source.unit_scale, in metres, its self-intersections repaired by "
+    "CGAL), the index every committed CSV of this body uses. file_vertex: the same vertex's 0-based index "
+    "among the file's vertices (its 'v' lines): its rest position is that vertex's coordinates times "
+    "unit_scale, to the bit; -1 for a vertex the repair made, in no file, whose position only the runner's "
+    "surface gives (`tissuebench mesh --surface FILE --unit-scale S --repair-self-intersections --out DIR`, "
+    "DIR/fine_surface.vtu's point source_vertex, or a run's <scenario>/mesh/fine_surface.vtu). "
+    "observation_points.surface_coordinates reads them.")
+# The runner's surface built from a data file against the file: CGAL 5.5's repair
+# (meshing/self_intersections.cc) keeps the file's vertices in their order but `dropped`,
+# and makes vertices in no file, at the runner's indices `made` (recycled slots). Measured
+# with `tissuebench mesh --surface liver-smooth.obj --unit-scale 0.01
+# --repair-self-intersections`: every other vertex is the file's times 0.01, bit for bit.
+# {(surface, vertices before the repair): map}; the tests check it against the committed
+# reference's clamped and grasped vertices.
+REPAIRED_SURFACES = {
+    ("data:meshes/liver-smooth.obj", 2194): {"dropped": (384, 386, 835, 836, 837, 2030), "made": (2025,)},
+}
 BEAD_COORDINATES = (
     "table_row is the bead's row in the data directory's data/truthcube/uniaxial_positions.csv (after its "
     "header lines; analysis/truth_cube.py read_table). Its rest coordinates in metres: frame.centre_m + "
@@ -391,6 +405,25 @@ def reference_case(suite, role):
     return results_index.load_case(folder)
 
 
+def file_vertices(source, vertex, folder):
+    """#S ints: the vertex of the data file (its 0-based 'v' line) each runner-surface vertex
+    `vertex` (#S) is, -1 for one the repair made (REPAIRED_SURFACES); source as
+    converged_fields.surface_source gives it. A file the map does not hold is an error."""
+    mesh, before = source
+    if not mesh.get("repair_self_intersections"):
+        return np.asarray(vertex).copy()  # unrepaired: the file's vertices, in its order
+    repair = REPAIRED_SURFACES.get((mesh.get("surface"), before))
+    if repair is None:
+        raise ResultsError(f"{folder}/run.json: a repaired surface from {mesh.get('surface')} ({before} vertices "
+                           "before the repair) that REPAIRED_SURFACES does not map to its file")
+    index = np.delete(np.arange(before), repair["dropped"]).tolist()
+    for k in sorted(repair["made"]):
+        index.insert(k, -1)
+    if np.max(vertex) >= len(index):
+        raise ResultsError(f"{folder}/top_surface.csv: vertex {np.max(vertex)}, the repaired surface has {len(index)}")
+    return np.array(index)[vertex]
+
+
 class Interior:
     """A role's interior points: names  #I ids ("p0", "b17"), rest  #I by 3 (m) or None
     (the Truth Cube's beads: third-party, by table_row  #I), the source (the scenario's
@@ -455,6 +488,7 @@ class RolePoints:
             self.patch_description += f", at z = {self.rest[:, 2].max():.6g} m"
         self.names = [f"s{v}" for v in self.vertex]
         self.source = converged_fields.surface_source(case)
+        self.file_vertex = None if self.rest is not None else file_vertices(self.source, self.vertex, self.folder)
         self.interior = interior_points(case)
 
 
@@ -509,11 +543,12 @@ def fmt(x):
 
 def surface_rows(points, converged):
     """(header, rows) of <role>.csv."""
-    where = ["x", "y", "z"] if points.rest is not None else ["source_vertex"]
+    where = ["x", "y", "z"] if points.rest is not None else ["source_vertex", "file_vertex"]
     header = ["id", "patch"] + where + (["ux", "uy", "uz"] if converged else [])
     rows = []
     for k, name in enumerate(points.names):
-        loc = list(points.rest[k]) if points.rest is not None else [int(points.vertex[k])]
+        loc = (list(points.rest[k]) if points.rest is not None
+               else [int(points.vertex[k]), int(points.file_vertex[k])])
         rows.append([name, points.patch] + [fmt(v) for v in loc] + ([fmt(v) for v in converged.u[k]]
                                                                      if converged else []))
     return header, rows
@@ -547,9 +582,15 @@ def sidecar(points, converged):
         "patch_description": points.patch_description,
         "surface_points": len(points.names),
         "surface_points_from": rel(os.path.join(points.folder, "top_surface.csv")),
-        "location": "x, y, z: rest position (m)" if points.rest is not None else LIVER_COORDINATES,
+        "location": "x, y, z: rest position (m)" if points.rest is not None else FILE_COORDINATES,
         "interior_points": 0 if points.interior is None else len(points.interior.names),
     }
+    if points.rest is None:
+        mesh, before = points.source
+        doc["source"] = {"surface": mesh.get("surface"), "unit_scale": mesh.get("unit_scale"),
+                         "repair_self_intersections": mesh.get("repair_self_intersections"),
+                         "vertices_before_repair": before,
+                         "made_by_repair": [n for n, f in zip(points.names, points.file_vertex) if f < 0]}
     if points.interior is not None:
         doc["interior_location"] = ("x, y, z: rest position (m), the scenario's probes (its own points)"
                                     if points.interior.rest is not None else BEAD_COORDINATES)
@@ -621,7 +662,7 @@ def read_points_csv(path):
     out = {"id": col["id"], "patch": col["patch"], "u": None, "rest": None}
     if "x" in col:
         out["rest"] = np.column_stack([col["x"], col["y"], col["z"]]).astype(float)
-    for key in ("source_vertex", "table_row"):
+    for key in ("source_vertex", "file_vertex", "table_row"):
         if key in col:
             out[key] = np.array(col[key], dtype=int)
     if "ux" in col:
@@ -640,6 +681,45 @@ def read_role(role, root=OUT):
     interior = os.path.join(root, f"{role}_interior.csv")
     return {"surface": read_points_csv(os.path.join(root, f"{role}.csv")),
             "interior": read_points_csv(interior) if os.path.isfile(interior) else None, "meta": meta}
+
+
+def read_obj_vertices(path):
+    """#V by 3 coordinates of an OBJ file's 'v' lines, in its units."""
+    if not os.path.isfile(path):
+        raise ResultsError(f"{path}: not there (third-party data, README 'Data' says where to obtain it)")
+    with open(path) as f:
+        return np.array([[float(x) for x in line.split()[1:4]] for line in f if line.startswith("v ")])
+
+
+def surface_coordinates(role, root=OUT, data_dir=None, mesh_folder=None):
+    """#S by 3 rest positions (m) of a role's surface points, in <role>.csv's order: its x, y,
+    z; for a surface read from a data file (the liver), that file's vertices (file_vertex, from
+    the data directory: data_dir as truth_cube.data_dir reads it) times unit_scale, or, given
+    mesh_folder (a run's <scenario>/mesh or `tissuebench mesh`'s --out), its
+    fine_surface.vtu's points (source_vertex), which also holds the vertices the repair made."""
+    files = read_role(role, root)
+    surface, meta = files["surface"], files["meta"]
+    if surface["rest"] is not None:
+        return surface["rest"]
+    if mesh_folder is not None:
+        from vtu_plot import read_vtu  # matplotlib: only when a mesh folder is read
+        path = os.path.join(mesh_folder, "fine_surface.vtu")
+        if not os.path.isfile(path):
+            raise ResultsError(f"{path}: not there (a run's <scenario>/mesh, or tissuebench mesh --out)")
+        points = read_vtu(path)[0]
+        if len(points) != len(surface["id"]) or surface["source_vertex"].max() >= len(points):
+            raise ResultsError(f"{path}: {len(points)} vertices, {role}'s surface has {len(surface['id'])}")
+        return points[surface["source_vertex"]]
+    made = np.flatnonzero(surface["file_vertex"] < 0)
+    if len(made):
+        raise ResultsError(f"{role}: point {surface['id'][made[0]]} is a vertex the repair of "
+                           f"{meta['source']['surface']} made, in no file: give mesh_folder")
+    path = os.path.join(truth_cube.data_dir(data_dir), meta["source"]["surface"].split(":", 1)[1])
+    vertices = read_obj_vertices(path)
+    if len(vertices) != meta["source"]["vertices_before_repair"]:
+        raise ResultsError(f"{path}: {len(vertices)} vertices, the runner read "
+                           f"{meta['source']['vertices_before_repair']} (another file?)")
+    return vertices[surface["file_vertex"]] * meta["source"]["unit_scale"]
 
 
 def probe_rms_mm(u, u_ref):

@@ -304,7 +304,7 @@ class CommittedPoints(unittest.TestCase):
             files = op.read_role(role)
             self.assertIsNone(files["surface"]["rest"], role)
             with open(os.path.join(POINTS, f"{role}.csv")) as f:
-                self.assertEqual(f.readline().strip().split(",")[:3], ["id", "patch", "source_vertex"])
+                self.assertEqual(f.readline().strip().split(",")[:4], ["id", "patch", "source_vertex", "file_vertex"])
             # The probe: the scenario's own point (its file's, as the run resolved it).
             reference = os.path.dirname(os.path.join(ROOT, files["meta"]["surface_points_from"]))
             with open(os.path.join(reference, "run.json")) as f:
@@ -314,6 +314,34 @@ class CommittedPoints(unittest.TestCase):
             interior = op.read_role(f"truth_cube_{strain}")["interior"]
             self.assertIsNone(interior["rest"])
             np.testing.assert_array_equal(interior["table_row"], np.arange(343))
+
+    def test_the_livers_file_vertices_are_its_clamped_and_grasped_vertices(self):
+        # The map from the runner's repaired liver surface to the data file's vertices
+        # (REPAIRED_SURFACES), checked on the committed reference: exactly the vertices the
+        # file puts in the support's box stay still, exactly those within the grasp's radius
+        # move with the jaw.
+        files = op.read_role("liver_grasp_gravity")
+        surface, meta = files["surface"], files["meta"]
+        with self.assertRaisesRegex(results_index.ResultsError, "point s2025 is a vertex the repair .* made"):
+            op.surface_coordinates("liver_grasp_gravity")
+        path = os.path.join(truth_cube.data_dir(None), meta["source"]["surface"].split(":", 1)[1])
+        if not os.path.isfile(path):
+            self.skipTest(f"{path}: not here (third-party data, README 'Data')")
+        known = surface["file_vertex"] >= 0
+        rest = op.read_obj_vertices(path)[surface["file_vertex"][known]] * meta["source"]["unit_scale"]
+        reference = os.path.dirname(os.path.join(ROOT, meta["surface_points_from"]))
+        ids, _, u = metrics.read_displacements(os.path.join(reference, "top_surface.csv"))
+        np.testing.assert_array_equal(ids, surface["source_vertex"])
+        u = u[known]
+        with open(os.path.join(reference, "run.json")) as f:
+            scenario = json.load(f)["scenario_resolved"]
+        box, grasp = scenario["support"], scenario["tools"][0]
+        clamped = np.all((rest >= box["min"]) & (rest <= box["max"]), axis=1)
+        held = np.linalg.norm(rest - grasp["point"], axis=1) <= grasp["radius"]
+        np.testing.assert_array_equal(np.all(u == 0, axis=1), clamped)
+        np.testing.assert_array_equal(np.all(u == grasp["schedule"]["value"], axis=1), held)
+        self.assertGreater(np.count_nonzero(clamped), 100)
+        self.assertGreater(np.count_nonzero(held), 20)
 
     def test_the_livers_converged_values_are_the_committed_study_csvs(self):
         # Nothing beyond what the committed CSVs already hold: the finest run's displacements by index.
