@@ -410,12 +410,11 @@ def file_vertices(source, vertex, folder):
     `vertex` (#S) is, -1 for one the repair made (REPAIRED_SURFACES); source as
     converged_fields.surface_source gives it. A file the map does not hold is an error."""
     mesh, before = source
-    if not mesh.get("repair_self_intersections"):
-        return np.asarray(vertex).copy()  # unrepaired: the file's vertices, in its order
-    repair = REPAIRED_SURFACES.get((mesh.get("surface"), before))
+    repair = REPAIRED_SURFACES.get((mesh.get("surface"), before)) if mesh.get("repair_self_intersections") else None
     if repair is None:
-        raise ResultsError(f"{folder}/run.json: a repaired surface from {mesh.get('surface')} ({before} vertices "
-                           "before the repair) that REPAIRED_SURFACES does not map to its file")
+        raise ResultsError(f"{folder}/run.json: a surface from {mesh.get('surface')} ({before} vertices before a "
+                           "repair) that REPAIRED_SURFACES does not map to its file's vertices (measure it: "
+                           "tissuebench mesh --surface FILE ..., its fine_surface.vtu against the file)")
     index = np.delete(np.arange(before), repair["dropped"]).tolist()
     for k in sorted(repair["made"]):
         index.insert(k, -1)
@@ -463,10 +462,11 @@ class RolePoints:
     """One role's observation points.
 
     role, base (the paper-sized role whose points these are), scenario and scenario_file
-    (the role's own), patch and patch_description, vertex  #S (the suite mesh's vertex ids), names  #S
-    ("s<vertex>"), rest  #S by 3 (m) or None (a third-party surface: vertex is then its
-    source_vertex), source (converged_fields.surface_source of the reference case),
-    interior (Interior or None), run (the reference case's run.json).
+    (the role's own), patch and patch_description, vertex  #S (the suite mesh's vertex
+    ids), names  #S ("s<vertex>"), rest  #S by 3 (m) or None (a surface from a data file:
+    vertex is then its source_vertex, file_vertex  #S its vertex in the file), source
+    (converged_fields.surface_source of the reference case), interior (Interior or None),
+    run and folder (the reference case's run.json and folder).
     """
 
     def __init__(self, role, suite=SUITE):
