@@ -515,8 +515,8 @@ def readme_block(tables_dir):
         return paragraphs[0] + "\n\n" + paragraphs[1]
     return table_and_caption("leaderboard") + (
         "\n\nWhere and when measured, every case's parameters, the cases not run: "
-        "[results/tables/leaderboard.md](results/tables/leaderboard.md); the same cells against the converged field: "
-        "[leaderboard_converged.md](results/tables/leaderboard_converged.md); every metric of every case: "
+        "[results/tables/leaderboard.md](results/tables/leaderboard.md);\nthe same cells against the converged field: "
+        "[leaderboard_converged.md](results/tables/leaderboard_converged.md);\nevery metric of every case: "
         "[suite_scores.md](results/tables/suite_scores.md).")
 
 

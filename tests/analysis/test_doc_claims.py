@@ -20,6 +20,13 @@ class CommittedPages(unittest.TestCase):
         problems = doc_claims.check(doc_claims.default_paths())
         self.assertEqual(problems, [], "\n".join(problems))
 
+    def test_the_readme_is_a_door(self):
+        with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
+            lines = f.read().split("\n")
+        self.assertLessEqual(len(lines), 200, "README.md: at most 200 lines")
+        long = [n for n, line in enumerate(lines, 1) if len(line) > 300]
+        self.assertEqual(long, [], "README.md: lines over 300 characters")
+
     def test_every_findings_page_exists(self):
         for name in doc_claims.FINDINGS_PAGES:
             self.assertTrue(os.path.isfile(os.path.join(ROOT, "docs", name)), name)
