@@ -723,7 +723,9 @@ def surface_coordinates(role, root=OUT, data_dir=None, mesh_folder=None):
 
 
 def probe_rms_mm(u, u_ref):
-    """RMS over the points of |u - u_ref| in mm (the leaderboard's probe error's formula; score_observations takes u_ref from the converged run, not the suite's reference). u, u_ref  #I by 3 (m)."""
+    """RMS over the points of |u - u_ref| in mm (the leaderboard's probe error's formula;
+    score_observations takes u_ref from the converged run, not the suite's reference).
+    u, u_ref  #I by 3 (m)."""
     return float(np.sqrt(np.mean(np.sum((u - u_ref) ** 2, axis=1)))) * 1000
 
 
