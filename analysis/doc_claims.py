@@ -7,8 +7,8 @@ The convention (docs/design.md, "Findings pages"):
   heading is `## Summary`, and everything from the top of the page to the end of that
   section fits one screen (SUMMARY_MAX_LINES lines, SUMMARY_MAX_WORDS words).
 - Each item of a summary (a list item or a paragraph) cites at least one table: a link
-  to a file under results/ (`results/tables/leaderboard.md`, a study's
-  `results/<study>/tables/*.md` or `.csv`), or to a heading of a page (`#anchor`,
+  to a table under results/ (`results/tables/leaderboard.md`, a study's
+  `results/<study>/tables/*.md` or `.csv`; not a raw result file), or to a heading of a page (`#anchor`,
   `page.md#anchor`) whose section holds a Markdown table.
 - Every number an item quotes is a number of a table it cites, rounded to the
   significant digits quoted (`0.47` is the table's 0.469; `47 %` its 0.469 or 46.9;
@@ -49,10 +49,12 @@ HEADING = re.compile(r"^\s{0,3}(#{1,6})\s+(.*?)\s*#*\s*$")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 # A commit named in prose: 7 to 40 hex digits with at least one digit and one letter.
 COMMIT = re.compile(r"\b(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}\b")
+# A reference by name: eq. 19, eqs. 12-30, section 1.4, table 2 (a list of integers or
+# dotted section numbers after it, never a measured value such as "table 2, 1.91 ms").
 NAMED_REFERENCE = re.compile(
     r"\b(?:eqs?\.?|equations?|sections?|tables?|figures?|figs?\.?|steps?-|chapters?|issues?|PR|stop)"
-    r"\s*#?\(?\d+(?:\.\d+)*\)?(?:\s*(?:[-,]|and|to)\s*\(?\d+(?:\.\d+)*\)?)*", re.I)
-YEAR = re.compile(r"\b(?:19[9]\d|20[0-3]\d)\b")
+    r"\s*#?\(?\d+(?:\.\d+)*\)?(?:(?:\s*-\s*|\s+(?:and|to)\s+)\(?\d+(?:\.\d+)*\)?)*", re.I)
+YEAR = re.compile(r"(?<![\d.])(?:19[9]\d|20[0-3]\d)(?![\d.]\d)")
 POWER = re.compile(r"\b10\^-?\d+|\b\d+(?:\.\d+)?\s*[x*]\s*10\^-?\d+")
 # A number as written: digits grouped by spaces in thousands (17 800), a decimal part,
 # an exponent; an x after it is a factor (1.75x); a following % makes it a percentage,
@@ -196,8 +198,8 @@ def cited_tables(block, page):
             continue
         path, _, anchor = target.partition("#")
         full = os.path.normpath(os.path.join(os.path.dirname(page), path)) if path else page
-        if path and os.sep + "results" + os.sep in full + os.sep and os.path.isfile(full) \
-                and full.endswith((".md", ".csv")):
+        if path and os.sep + "results" + os.sep in full and os.sep + "tables" + os.sep in full \
+                and os.path.isfile(full) and full.endswith((".md", ".csv")):
             text = ""
             for twin in {full, os.path.splitext(full)[0] + ".md", os.path.splitext(full)[0] + ".csv"}:
                 if os.path.isfile(twin):

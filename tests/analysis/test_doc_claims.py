@@ -54,6 +54,10 @@ class QuotedNumbers(unittest.TestCase):
         text = "eq. 19, table 1, section 1.4, Bouaziz et al. 2014, 10^5 vertices, [table 3.5](x.md)"
         self.assertEqual(doc_claims.quoted_numbers(text), [])
 
+    def test_a_value_beside_a_reference_or_like_a_year_is_still_a_claim(self):
+        self.assertEqual([c[0] for c in doc_claims.quoted_numbers("table 2, 1.91 ms; 0.2034 and 1.2000")],
+                         [1.91, 0.2034, 1.2])
+
     def test_rounding_to_the_digits_quoted(self):
         table = [0.469, 15.6, 0.00156]
         for quoted in ("0.47", "0.469", "16", "15.6", "1.6e-3", "0.0016", "47 %"):
@@ -98,6 +102,13 @@ class BrokenPages(unittest.TestCase):
     def test_a_number_the_table_does_not_hold(self):
         problems = self.problems("# T\n\n## Summary\n\n- pd is 0.48 off ([t](../results/tables/t.md)).\n")
         self.assertRegex(" ".join(problems), "0.48 is in none of the tables")
+
+    def test_a_raw_result_file_is_not_a_table(self):
+        os.makedirs(os.path.join(self.tmp.name, "results", "study", "case"))
+        with open(os.path.join(self.tmp.name, "results", "study", "case", "probes.csv"), "w") as f:
+            f.write("id,u\n1,0.0123\n")
+        problems = self.problems("# T\n\n## Summary\n\n- 0.0123 ([raw](../results/study/case/probes.csv)).\n")
+        self.assertRegex(" ".join(problems), "cites no table")
 
     def test_a_number_not_in_the_cited_section(self):
         problems = self.problems("# T\n\n## Summary\n\n- 3.26 ([s](#details)).\n\n## Details\n\n| 3.25 |\n")
