@@ -43,6 +43,8 @@ def pareto_figure(suite, role, colours):
         points.append({"case": name, "model": case["run"]["model"], "error": sources.number(row[column]),
                        "time_ms": case["timings"]["step"]["median_ms"], "settled": row["settled"] == "yes",
                        "hover": hover(row, case, column)})
+    if not points:  # a plot of the bands alone would pass for a result
+        raise sources.ResultsError(f"{role}: no ranked case has a finite '{column}' in suite_scores.csv")
     bands = [b for b in (suite.reference_band(role), suite.law_band(role)) if b is not None]
     title = f"{role}: error against time per frame (x: not settled)"
     return plots.pareto(points, bands, leaderboard.BUDGETS_MS, title, y_title, colours), bands

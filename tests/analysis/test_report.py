@@ -8,6 +8,7 @@ Run by CTest (analysis_tests), or alone:
 """
 import html.parser
 import json
+import csv
 import os
 import shutil
 import subprocess
@@ -98,6 +99,12 @@ class CommittedReport(unittest.TestCase):
         hovers = [h for t in fig["data"] for h in t.get("hovertext", [])]
         self.assertTrue(any("<b>pd</b>" in h and "iterations = 10" in h for h in hovers))
 
+    def test_every_pareto_plot_holds_its_cases_not_only_the_bands(self):
+        for role in self.roles:
+            fig = self.parsed[f"{role}.html"].figures[f"{role}-pareto"]
+            cases = [h for t in fig["data"] for h in t.get("hovertext", []) if h.startswith("<b>")]
+            self.assertGreater(len(cases), 1, role)
+
     def test_a_scenario_without_coordinates_has_no_3d_view(self):
         for role in self.roles:
             figures = self.parsed[f"{role}.html"].figures
@@ -155,6 +162,22 @@ class MissingInputs(unittest.TestCase):
             self.assertTrue(message.startswith(os.path.join(tmp, named or missing) + ": missing"), message)
             self.assertNotIn("\n", message)
             self.assertFalse(os.path.exists(out))
+        finally:
+            shutil.rmtree(tmp)
+
+    def test_a_scenario_whose_cases_have_no_error_is_an_error_not_an_empty_plot(self):
+        tmp, path = results_without("tables/suite_scores.csv")
+        try:
+            with open(os.path.join(RESULTS, "tables", "suite_scores.csv"), newline="") as f:
+                rows = list(csv.reader(f))
+            column = rows[0].index("rel L2 vs reference")
+            for r in rows[1:]:
+                if r[0] == "cube_pull_disc":
+                    r[column] = "n/a"
+            with open(path, "w", newline="") as f:
+                csv.writer(f, lineterminator="\n").writerows(rows)
+            with self.assertRaisesRegex(ResultsError, "^cube_pull_disc: no ranked case has a finite"):
+                build.make(tmp, os.path.join(tmp, "report"))
         finally:
             shutil.rmtree(tmp)
 
