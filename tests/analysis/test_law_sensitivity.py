@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.join(ROOT, "analysis"))
 sys.path.insert(0, HERE)
 import law_sensitivity  # noqa: E402
 import leaderboard  # noqa: E402
-from test_leaderboard import U_REF, write_case  # noqa: E402
+from test_leaderboard import U_REF, edit_json, write_case  # noqa: E402
 
 NEWTON = {"solve": "newton"}
 LINEAR = {"solve": "direct"}
@@ -158,12 +158,9 @@ class LawSensitivity(unittest.TestCase):
     def test_a_leaderboard_cell_another_law_gives_to_another_model(self):
         with tempfile.TemporaryDirectory() as tmp:
             exp = write_suite(tmp)
-            path = os.path.join(exp, "pull", "vbd", "timings.json")
-            with open(path) as f:
-                timings = json.load(f)
-            timings["step"]["median_ms"] = 10.0  # vbd (0.01) now takes the 16 ms cell under the coupled law
-            with open(path, "w") as f:
-                json.dump(timings, f)
+            # vbd (0.01) now takes the 16 ms cell under the coupled law
+            edit_json(os.path.join(exp, "pull", "vbd", "timings.json"),
+                      lambda timings: timings["step"].update(median_ms=10.0))
             out = law_sensitivity.make(exp, tmp, write_bead_table(tmp))
             changes = law_sensitivity.cell_changes(out["cube_pull_disc"])
             self.assertEqual([(law, budget, ref[0], other[0]) for law, _, budget, ref, other in changes],

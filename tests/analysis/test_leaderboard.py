@@ -24,6 +24,15 @@ BUILD = {"cpu_model": "test cpu", "hardware_threads": 2, "build_type": "Release"
          "git_commit": "abc"}
 
 
+def edit_json(path, change):
+    """Reads the JSON file at path, applies change(obj) to it and writes it back."""
+    with open(path) as f:
+        obj = json.load(f)
+    change(obj)
+    with open(path, "w") as f:
+        json.dump(obj, f)
+
+
 def write_case(exp, scenario, case, model, u, median_ms, probes=None, tool_force=None, dynamic=False, settled=True):
     d = os.path.join(exp, scenario, case)
     os.makedirs(d)
