@@ -63,6 +63,14 @@ TimingStats timing_stats(std::vector<double> s) {
   return t;
 }
 
+std::vector<int> observed_vertices(const Scenario& s, const Points& V) {
+  std::vector<int> out;
+  const double top = V.col(2).maxCoeff();
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    if (s.observed == "all" || std::abs(V(v, 2) - top) <= s.top_tolerance) out.push_back(static_cast<int>(v));
+  return out;
+}
+
 namespace {
 
 nlohmann::json to_json(const TimingStats& t) {
@@ -103,14 +111,6 @@ class Progress {
   std::string prefix_;
   Clock::time_point last_{};
 };
-
-std::vector<int> observed_vertices(const Scenario& s, const Points& V) {
-  std::vector<int> out;
-  const double top = V.col(2).maxCoeff();
-  for (Eigen::Index v = 0; v < V.rows(); ++v)
-    if (s.observed == "all" || std::abs(V(v, 2) - top) <= s.top_tolerance) out.push_back(static_cast<int>(v));
-  return out;
-}
 
 /// The vertex of `observed` (not empty) nearest `p`, the first of equals.
 int nearest_observed(const std::vector<int>& observed, const Points& V, const Eigen::Vector3d& p) {

@@ -58,6 +58,10 @@ std::string default_mesh_cache_dir();
 /// others go on. Returns the outcomes of the cases this process writes.
 std::vector<CaseOutcome> run_experiment(const Experiment& experiment, const RunOptions& options);
 
+/// The surface vertices a case observes (scenario "observe.vertices": "top", those
+/// within top_tolerance of the highest z of V; "all", every one), increasing. V #V by 3.
+std::vector<int> observed_vertices(const Scenario& scenario, const Points& V);
+
 /// Summary statistics of per-frame times (milliseconds).
 struct TimingStats {
   double median = 0, p95 = 0, mean = 0, min = 0, max = 0;

@@ -14,6 +14,7 @@
 #include "mesh_recipe.h"
 #include "model.h"
 #include "mpi_session.h"
+#include "problem_package.h"
 #include "runner.h"
 #include "strict_json.h"
 
@@ -179,6 +180,26 @@ int main(int argc, char** argv) {
   resolve->add_option("file", resolve_file, "scenario or experiment JSON")->required();
   resolve->add_option("--data-dir", data_dir_flag, data_help);
 
+  // The problem package of the open benchmark (problem_package.h, docs/benchmark_format.md).
+  auto* export_command = app.add_subcommand(
+      "export", "Write each scenario's problem package (meshes, material, support, load and tool paths, observation "
+                "points) for a simulator outside this tree: <out>/<scenario>/");
+  std::string export_file, export_out, export_scenario;
+  tb::ExportOptions export_options;
+  bool export_quiet = false, export_no_cache = false;
+  export_command->add_option("file", export_file, "scenario or experiment JSON (e.g. experiments/suite.json)")
+      ->required();
+  export_command->add_option("--out", export_out, "folder of the packages, one sub-folder per scenario")->required();
+  export_command->add_option("--scenario", export_scenario, "only the scenario of this name or role");
+  export_command->add_option("--data-dir", data_dir_flag, data_help);
+  export_command->add_option("--mesh-cache", mesh_cache,
+                             "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
+  export_command->add_flag("--no-mesh-cache", export_no_cache, "always build the meshes");
+  export_command->add_option("--observation-points", export_options.observation_points_dir,
+                             "folder of the roles' observation points (default: the repository's " +
+                                 export_options.observation_points_dir + ")");
+  export_command->add_flag("--quiet", export_quiet, "no progress on stderr");
+
   app.add_subcommand("models", "List the registered models and their parameters");
   app.add_subcommand("build-info", "Print the build (commit, compiler, flags of each library) and machine as JSON");
 
@@ -189,6 +210,17 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("build-info")) {
       if (!root) return 0;
       std::cout << tb::build_and_machine_info().dump(2) << "\n";
+      return 0;
+    }
+    if (export_command->parsed()) {
+      if (!root) return 0;  // one writer
+      const tb::Experiment e = tb::load_experiment(export_file, tb::data_dir(data_dir_flag));
+      export_options.out_dir = export_out;
+      export_options.only_scenario = export_scenario;
+      export_options.mesh_cache_dir = export_no_cache ? "" : mesh_cache;
+      if (!export_quiet) export_options.progress = [](const std::string& line) { std::cerr << "tissuebench: " << line << "\n"; };
+      const std::vector<std::string> written = tb::export_problem_packages(e, export_file, export_options);
+      std::cerr << "tissuebench: " << written.size() << " problem package(s) written under " << export_out << "\n";
       return 0;
     }
     if (resolve->parsed()) {
