@@ -8,11 +8,13 @@
 namespace tb {
 namespace fs = std::filesystem;
 
+std::string source_dir() { return fs::path(TB_SOURCE_DIR).lexically_normal().string(); }
+
 DataDir data_dir(const std::string& flag) {
   auto absolute = [](const fs::path& p) { return fs::absolute(p).lexically_normal().string(); };
   if (!flag.empty()) return {absolute(flag), "--data-dir"};
   if (const char* env = std::getenv("TISSUEBENCH_DATA"); env && *env) return {absolute(env), "TISSUEBENCH_DATA"};
-  return {absolute(fs::path(TB_SOURCE_DIR) / ".." / "shared"), "the default, ../shared beside the repository"};
+  return {absolute(fs::path(source_dir()) / ".." / "shared"), "the default, ../shared beside the repository"};
 }
 
 bool is_data_reference(const std::string& value) { return value.rfind(kDataPrefix, 0) == 0; }

@@ -24,6 +24,11 @@ struct DataDir {
 /// empty, else <source directory>/../shared.
 DataDir data_dir(const std::string& flag = "");
 
+/// The repository's source directory compiled into the binary (absolute,
+/// normalised): what the default data directory and the committed results (`tissuebench
+/// score --answers`, results/observation_points) are found beside, from any folder.
+std::string source_dir();
+
 /// Whether a file value is a data reference ("data:..."), not a path.
 bool is_data_reference(const std::string& value);
 

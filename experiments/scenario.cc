@@ -172,26 +172,6 @@ void Scenario::loads_at(int frame, FrameLoads& out) const {
 
 namespace {
 
-/// Deeper nesting than any scenario needs; the loader and nlohmann's dump() recurse
-/// per level, so an input nested deeper (a million '[') would overflow the stack.
-constexpr int kMaxJsonDepth = 64;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::error_code ec;
-  if (!in || fs::is_directory(path, ec)) throw ScenarioError(path + ": cannot open file");
-  try {
-    return nlohmann::json::parse(in, [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
-      if (depth > kMaxJsonDepth)
-        throw ScenarioError(path + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-      return true;
-    });
-  } catch (const nlohmann::json::exception& e) {
-    // parse_error, and out_of_range for a number beyond double (1e400).
-    throw ScenarioError(path + ": malformed JSON: " + e.what());
-  }
-}
-
 std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
 
 /// A scenario file with its "extends" chain merged, and which file set each value.
@@ -228,7 +208,7 @@ Document read_scenario_document(const std::string& path, std::vector<std::string
     throw ScenarioError(file_name(chain.front()) + ".extends: a cycle: " + names + file_name(path));
   }
   chain.push_back(canonical);
-  nlohmann::json j = read_json(path);
+  nlohmann::json j = read_json_file(path);
   if (!j.is_object() || !j.contains("extends")) {
     Document d{std::move(j), std::make_shared<KeyOrigins>()};
     d.origins->file = path;
@@ -490,7 +470,7 @@ void leave_out_unsupported(Scenario& s, const std::string& reference, const std:
 }  // namespace
 
 Experiment load_experiment(const std::string& path, const DataDir& data, const nlohmann::json& overrides) {
-  const nlohmann::json j = read_json(path);
+  const nlohmann::json j = read_json_file(path);
   const std::string where = file_name(path);
   Experiment e;
   e.overrides = overrides;

@@ -3,11 +3,31 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "file_schema.h"
 
 namespace tb {
+
+/// Deeper nesting than any scenario needs (strict_json.h, read_json_file).
+constexpr int kMaxJsonDepth = 64;
+
+nlohmann::json read_json_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(path, ec)) throw ScenarioError(path + ": cannot open file");
+  try {
+    return nlohmann::json::parse(in, [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      if (depth > kMaxJsonDepth)
+        throw ScenarioError(path + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      return true;
+    });
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double (1e400).
+    throw ScenarioError(path + ": malformed JSON: " + e.what());
+  }
+}
 
 std::string shown(const nlohmann::json& value, size_t max_chars) {
   // Strings from the parser are valid UTF-8, so dump() cannot throw; replace anyway.

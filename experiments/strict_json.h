@@ -24,6 +24,12 @@ class ScenarioError : public std::runtime_error {
   explicit ScenarioError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
 
+/// A JSON file parsed, nested at most 64 levels deep (the loaders and nlohmann's
+/// dump() recurse per level: a million '[' would overflow the stack). Throws
+/// ScenarioError "<path>: cannot open file" or "<path>: malformed JSON: <nlohmann's
+/// message, with the line and column>".
+nlohmann::json read_json_file(const std::string& path);
+
 /// A JSON value quoted in a message: its text, cut to `max_chars`.
 std::string shown(const nlohmann::json& value, size_t max_chars = 120);
 

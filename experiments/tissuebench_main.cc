@@ -8,15 +8,19 @@
 #include <filesystem>
 #include <iostream>
 
+#include "atomic_file.h"
 #include "blas_kernels.h"
 #include "build_info.h"
+#include "calibration.h"
 #include "elastic_body.h"
 #include "mesh_recipe.h"
 #include "model.h"
 #include "mpi_session.h"
+#include "observation_points.h"
 #include "problem_package.h"
 #include "runner.h"
 #include "strict_json.h"
+#include "submission_score.h"
 
 namespace {
 
@@ -200,6 +204,28 @@ int main(int argc, char** argv) {
                                  export_options.observation_points_dir + ")");
   export_command->add_flag("--quiet", export_quiet, "no progress on stderr");
 
+  // The open benchmark's scoring (submission.h, submission_score.h, calibration.h;
+  // docs/benchmark_format.md "Submissions and scoring").
+  auto* score_command = app.add_subcommand(
+      "score", "Score a submission folder against its problem package: prints a summary, writes <submission>/score.json");
+  std::string submission_dir, package_dir, answers_dir = tb::default_observation_points_dir(), calibration_value;
+  score_command->add_option("submission", submission_dir, "the submission folder (submission.json, displacements.csv, "
+                                                          "forces.csv if the scenario has tools)")->required();
+  score_command->add_option("--package", package_dir, "the problem package folder (tissuebench export)")->required();
+  score_command->add_option("--answers", answers_dir,
+                            "folder of the converged answers, <role>.csv, <role>_interior.csv, <role>.json (default: "
+                            "the repository's results/observation_points, now " + answers_dir + ")");
+  score_command->add_option("--data-dir", data_dir_flag, data_help + "; the Truth Cube's bead table is read from it");
+  score_command->add_option("--calibration", calibration_value,
+                            "this machine's calibration figure: a number of ms, or a file holding calibrate's JSON "
+                            "(default: run the calibration now, about 2 s)");
+  auto* calibrate_command = app.add_subcommand(
+      "calibrate", "Time a fixed tet-loop workload and print this machine's figure (ms) as JSON: what score "
+                   "normalises self-reported times by");
+  int calibration_repeats = 15;
+  calibrate_command->add_option("--repeats", calibration_repeats, "timed repeats; the figure is their median")
+      ->check(CLI::Range(1, 1000));
+
   app.add_subcommand("models", "List the registered models and their parameters");
   app.add_subcommand("build-info", "Print the build (commit, compiler, flags of each library) and machine as JSON");
 
@@ -221,6 +247,30 @@ int main(int argc, char** argv) {
       if (!export_quiet) export_options.progress = [](const std::string& line) { std::cerr << "tissuebench: " << line << "\n"; };
       const std::vector<std::string> written = tb::export_problem_packages(e, export_file, export_options);
       std::cerr << "tissuebench: " << written.size() << " problem package(s) written under " << export_out << "\n";
+      return 0;
+    }
+    if (calibrate_command->parsed()) {
+      if (!root) return 0;
+      std::cout << tb::run_calibration(calibration_repeats).to_json().dump(2) << "\n";
+      return 0;
+    }
+    if (score_command->parsed()) {
+      if (!root) return 0;
+      const tb::ProblemPackage package = tb::read_problem_package(package_dir);
+      const tb::Submission submission = tb::read_submission(submission_dir, package);
+      tb::ScoreOptions options{answers_dir, tb::data_dir(data_dir_flag), 0, nullptr};
+      if (calibration_value.empty()) {
+        const tb::Calibration calibration = tb::run_calibration();
+        options.machine_figure_ms = calibration.figure_ms;
+        options.machine = calibration.to_json();
+      } else {
+        options.machine_figure_ms = tb::calibration_figure(calibration_value);
+        options.machine = {{"calibration", calibration_value}};
+      }
+      const nlohmann::json score = tb::score_submission(submission, package, options);
+      const std::string written = (std::filesystem::path(submission_dir) / "score.json").string();
+      tb::write_file_atomically(written, score.dump(2) + "\n");
+      std::cout << tb::score_summary(score) << "  written: " << written << "\n";
       return 0;
     }
     if (resolve->parsed()) {

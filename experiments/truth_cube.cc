@@ -8,25 +8,16 @@
 #include <stdexcept>
 
 #include "mesh_error.h"
+#include "text_parsing.h"
 
 namespace tb {
 namespace {
 
+using detail::split_commas;
+
 constexpr int kHeaderLines = 7;
 constexpr int kStrainLabelLine = 6;  // "bead nominal location,,,no strain,,,5% strain,..."
 constexpr int kGrid = 7;
-
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    cells.push_back(cell);
-  }
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
 
 bool parse_number(const std::string& text, double& value) {
   if (text.empty()) return false;

@@ -46,6 +46,18 @@ std::vector<std::string> split_whitespace(const std::string& line) {
   return out;
 }
 
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> cells;
+  for (size_t start = 0;;) {
+    const size_t comma = line.find(',', start);
+    const std::string cell = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const size_t first = cell.find_first_not_of(" \t\r");
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, cell.find_last_not_of(" \t\r") - first + 1));
+    if (comma == std::string::npos) return cells;
+    start = comma + 1;
+  }
+}
+
 LineCursor::LineCursor(std::string file, const std::string& text, char comment)
     : file_(std::move(file)), in_(text), size_(text.size()), comment_(comment) {}
 
@@ -104,23 +116,24 @@ void check_allocation(const std::string& file, size_t count, size_t bytes_per_it
                             " GiB (kMaxReaderBytes, meshing/text_parsing.h)");
 }
 
-double to_double(const LineCursor& c, const std::string& token) {
+double to_double(const LineCursor& c, const std::string& token, const std::string& what) {
+  const std::string lead = what.empty() ? "" : what + ": ";
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(token.c_str(), &end);
   // end must be the token's end: a NUL byte inside a token is not its end.
   if (end != token.c_str() + token.size() || token.empty() || errno == ERANGE)
-    c.fail("expected a number, found '" + shown(token) + "'");
-  if (!std::isfinite(v)) c.fail("coordinate is NaN or Inf ('" + shown(token) + "')");
+    c.fail(lead + "expected a number, found '" + shown(token) + "'");
+  if (!std::isfinite(v)) c.fail((what.empty() ? "coordinate" : what) + " is NaN or Inf ('" + shown(token) + "')");
   return v;
 }
 
-long to_long(const LineCursor& c, const std::string& token) {
+long to_long(const LineCursor& c, const std::string& token, const std::string& what) {
   errno = 0;
   char* end = nullptr;
   const long v = std::strtol(token.c_str(), &end, 10);
   if (end != token.c_str() + token.size() || token.empty() || errno == ERANGE)
-    c.fail("expected an integer, found '" + shown(token) + "'");
+    c.fail((what.empty() ? "" : what + ": ") + "expected an integer, found '" + shown(token) + "'");
   return v;
 }
 

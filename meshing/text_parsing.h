@@ -28,6 +28,11 @@ std::string shown(const std::string& token, size_t max_chars = 60);
 /// Splits on whitespace.
 std::vector<std::string> split_whitespace(const std::string& line);
 
+/// The cells of one comma-separated line, each without the blanks around it (spaces,
+/// tabs, a carriage return); "a,,b" has an empty middle cell and a trailing comma an
+/// empty last one. No quoting: the project's tables hold none.
+std::vector<std::string> split_commas(const std::string& line);
+
 /// Walks the lines of a text file, skipping blank lines and those starting with
 /// `comment` (if non-zero), and throws "truncated" when asked past the end.
 class LineCursor {
@@ -59,8 +64,10 @@ class LineCursor {
   size_t peeked_bytes_ = 0;
 };
 
-double to_double(const LineCursor& c, const std::string& token);
-long to_long(const LineCursor& c, const std::string& token);
+/// `token` as a finite number, else c.fail() quoting it; `what` (a column's name, say)
+/// leads the message when given.
+double to_double(const LineCursor& c, const std::string& token, const std::string& what = "");
+long to_long(const LineCursor& c, const std::string& token, const std::string& what = "");
 
 }  // namespace tb::detail
 

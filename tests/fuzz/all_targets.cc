@@ -1,4 +1,5 @@
-// Every fuzz target (tb_fuzz, fuzz_scenario): the mesh readers' and the scenario loader's.
+// Every fuzz target (tb_fuzz, fuzz_scenario): the mesh readers', the scenario loader's and the
+// submission reader's.
 #include "fuzz_targets.h"
 
 namespace tb::fuzz {
@@ -9,6 +10,7 @@ const std::vector<Target>& targets() {
     t.push_back(scenario_target());
     t.push_back(probes_target());
     t.push_back(truth_cube_target());
+    t.push_back(submission_target());
     return t;
   }();
   return all;

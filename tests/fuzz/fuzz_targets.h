@@ -61,6 +61,8 @@ Target scenario_target();
 Target probes_target();
 /// The Truth Cube bead table's target (scenario_target.cc).
 Target truth_cube_target();
+/// The benchmark submission's target (submission_target.cc).
+Target submission_target();
 /// The target called `name`; throws std::invalid_argument listing the names.
 const Target& find_target(const std::string& name);
 
@@ -81,5 +83,8 @@ std::string message_kind(std::string message, const std::string& workspace);
 
 /// The TetGen target's input holds the .node file, this line, then the .ele file.
 inline constexpr const char* kTetgenSeparator = "\n#--ele--\n";
+/// The submission target's input: submission.json, then this and "displacements.csv\n",
+/// the CSV, then this and "forces.csv\n", the CSV.
+inline constexpr const char* kSubmissionSeparator = "\n#--";
 
 }  // namespace tb::fuzz

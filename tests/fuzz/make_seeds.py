@@ -298,6 +298,27 @@ def main():
     write("truth_cube_csv", "corners.csv", header + rows)
     two = header.replace(",,,18.25% strain,,", "").replace(",x3,y3,z3", "")
     write("truth_cube_csv", "two_strains.csv", two + "1,1,1,-30,-30,10,-30,-30,10.5,-30,-30,11\r\n")
+    # A benchmark submission (the submission target): submission.json, then each CSV after
+    # its separator line, for the fixed package of tests/submission_fixture.h (whose valid
+    # submission this is: three surface points and a probe, frames 1 and 2, one tool).
+    submission = json.dumps({
+        "format": "tissuebench-submission/1", "scenario": "tiny", "role": "tiny_role", "method": "seed",
+        "resolution": {"description": "the observation points", "surface_vertices": 3, "tets": 0},
+        "units": {"length": "m", "force": "N", "time": "ms", "memory": "MiB"},
+        "timing": {"frame_median_ms": 10, "frame_p95_ms": 12, "setup_s": 1.5}, "peak_memory_mib": 64,
+        "threads": 1, "machine": {"cpu": "seed", "cores": 2},
+        "calibration": {"figure_ms": 200, "command": "tissuebench calibrate"},
+        "provenance": "tests/fuzz/make_seeds.py"}, indent=1)
+    rows = {f: [f"{f},{p},{0.001 * f},{0.0005 * f},{-0.001 * f}" for p in ("s0", "s1", "s2", "p0")] for f in (1, 2)}
+    displacements = "frame,id,ux,uy,uz\n" + "".join(r + "\n" for f in (1, 2) for r in rows[f])
+    forces = "frame,tool,fx,fy,fz\n1,grasp,0,0,0.5\n2,grasp,0,0,1\n"
+    sep = "\n#--"
+    write("submission", "valid.txt", submission + sep + "displacements.csv\n" + displacements + sep + "forces.csv\n" + forces)
+    shuffled = "frame,id,ux,uy,uz\r\n" + "".join(r + "\r\n" for f in (1, 2) for r in reversed(rows[f]))
+    write("submission", "rows_reversed_crlf.txt",
+          submission + sep + "displacements.csv\n" + shuffled + sep + "forces.csv\n" + forces)
+    write("submission", "last_frame_only.txt", submission + sep + "displacements.csv\n" + "frame,id,ux,uy,uz\n" +
+          "".join(r + "\n" for r in rows[2]) + sep + "forces.csv\n" + "frame,tool,fx,fy,fz\n2,grasp,0,0,1\n")
     regressions()
 
 
