@@ -34,8 +34,8 @@ struct PointRows {
   std::vector<std::string> id, patch;
   Points X = Points(0, 3);
 };
-PointRows read_points(const std::string& file, bool with_patch, const std::string& index_column,
-                      const Points& by_index, const std::string& what) {
+PointRows read_points(const std::string& file, bool with_patch, const std::string& index_column, const Points& by_index,
+                      const std::string& what) {
   CsvReader csv(file, kMaxObservationFileBytes);
   const int id = csv.require_column("id");
   const int patch = with_patch ? csv.require_column("patch") : -1;
@@ -53,8 +53,8 @@ PointRows read_points(const std::string& file, bool with_patch, const std::strin
     }
     const long k = csv.integer(index);
     if (k < 0 || k >= by_index.rows())
-      csv.fail(index_column + " " + std::to_string(k) + " is outside " + what + " (" +
-               std::to_string(by_index.rows()) + " rows)");
+      csv.fail(index_column + " " + std::to_string(k) + " is outside " + what + " (" + std::to_string(by_index.rows()) +
+               " rows)");
     rows.emplace_back(by_index.row(k).transpose());
   }
   out.X.resize(static_cast<Eigen::Index>(rows.size()), 3);

@@ -42,8 +42,7 @@ struct ObservationPoints {
 /// std::runtime_error, one line naming the file and the problem: a missing file, a
 /// missing column, a malformed number, a source_vertex outside the surface, a
 /// table_row outside the probes, a count unlike the JSON's.
-ObservationPoints read_observation_points(const std::string& dir, const Scenario& scenario,
-                                          const SurfaceMesh& surface);
+ObservationPoints read_observation_points(const std::string& dir, const Scenario& scenario, const SurfaceMesh& surface);
 
 /// A scenario with no role: its own observed vertices (observe.vertices: the top face
 /// or the whole surface, observed_vertices in runner.h) as "s<vertex>", and its probes

@@ -121,8 +121,7 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
         {"nodes", mesh.fine_volume.V.rows()},
         {"tets", mesh.fine_volume.T.rows()},
         {"surface_vertices_first", surface_vertices_first(mesh)},
-        {"surface_vertex_field",
-         "volume.vtu's point field surface_vertex: the surface vertex a node is, -1 inside"}}}};
+        {"surface_vertex_field", "volume.vtu's point field surface_vertex: the surface vertex a node is, -1 inside"}}}};
   const MaterialLawInfo& law = find_material_law(kAnswerLaw);
   const LameParameters lame = lame_parameters(s.material);
   j["material"] = {{"law", law.name},
@@ -137,8 +136,9 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
                    {"lame_lambda", lame.lambda},
                    {"lame_from", "mu = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu))"}};
   nlohmann::json definition = {{"box", {{"min", vec(s.support.min)}, {"max", vec(s.support.max)}}},
-                               {"meaning", "the surface vertices whose rest position lies in the box (null: "
-                                           "unbounded) are held fixed"}};
+                               {"meaning",
+                                "the surface vertices whose rest position lies in the box (null: "
+                                "unbounded) are held fixed"}};
   if (s.support_lowest_fraction >= 0) definition["lowest_fraction"] = s.support_lowest_fraction;
   const std::vector<char> clamped = s.support.select(mesh.fine_surface.V);
   j["support"] = {{"definition", definition},
@@ -179,9 +179,10 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
   j["time"] = {{"dt", package_time_step(s)},
                {"frames", frames},
                {"ramp_frames", s.changing_frames()},
-               {"meaning", "frames 0..frames-1, dt apart; each load and tool takes its path file's value; the "
-                           "answer is the static equilibrium under the last frame's values (a dynamic simulator "
-                           "reports it once settled)"}};
+               {"meaning",
+                "frames 0..frames-1, dt apart; each load and tool takes its path file's value; the "
+                "answer is the static equilibrium under the last frame's values (a dynamic simulator "
+                "reports it once settled)"}};
   nlohmann::json obs = {{"surface_points", "observation_points.csv"},
                         {"surface_count", points.surface.rows()},
                         {"frames", {frames - 1}},
@@ -273,8 +274,7 @@ std::vector<std::string> export_problem_packages(const Experiment& e, const std:
   std::vector<const Scenario*> selected;
   std::string known;
   for (const Scenario& s : e.scenarios) {
-    if (opt.only_scenario.empty() || s.name == opt.only_scenario || s.role == opt.only_scenario)
-      selected.push_back(&s);
+    if (opt.only_scenario.empty() || s.name == opt.only_scenario || s.role == opt.only_scenario) selected.push_back(&s);
     known += (known.empty() ? "" : ", ") + s.name + (s.role.empty() ? "" : " (" + s.role + ")");
   }
   if (selected.empty())

@@ -61,8 +61,8 @@ void write_problem_package(const Scenario& scenario, const HybridMesh& mesh, con
                            const std::string& dir, const std::string& schema_dir);
 
 struct ExportOptions {
-  std::string out_dir;        ///< the packages go to <out_dir>/<scenario name>/
-  std::string only_scenario;  ///< a scenario's name or role; empty: every scenario
+  std::string out_dir;         ///< the packages go to <out_dir>/<scenario name>/
+  std::string only_scenario;   ///< a scenario's name or role; empty: every scenario
   std::string mesh_cache_dir;  ///< build_mesh_cached's cache; empty: none
   std::string observation_points_dir = default_observation_points_dir();
   std::string schema_dir = default_schema_dir();

@@ -1,5 +1,6 @@
-// The tissuebench command line: `run`, `mesh`, `models`. Any failure prints one
-// line naming the file and the problem and exits non-zero. Under `mpirun -np N`
+// The tissuebench command line: `run`, `mesh`, `models`, `export` (the problem
+// package), `score`. Any failure prints one line naming the file and the problem
+// and exits non-zero. Under `mpirun -np N`
 // the ranks run the distributed FEM's cases together and share out the others,
 // each case run and written by one rank (runner.h, RunOptions::processes); rank 0
 // prints the summary of all.
@@ -186,8 +187,9 @@ int main(int argc, char** argv) {
 
   // The problem package of the open benchmark (problem_package.h, docs/benchmark_format.md).
   auto* export_command = app.add_subcommand(
-      "export", "Write each scenario's problem package (meshes, material, support, load and tool paths, observation "
-                "points) for a simulator outside this tree: <out>/<scenario>/");
+      "export",
+      "Write each scenario's problem package (meshes, material, support, load and tool paths, observation "
+      "points) for a simulator outside this tree: <out>/<scenario>/");
   std::string export_file, export_out, export_scenario;
   tb::ExportOptions export_options;
   bool export_quiet = false, export_no_cache = false;
@@ -196,8 +198,9 @@ int main(int argc, char** argv) {
   export_command->add_option("--out", export_out, "folder of the packages, one sub-folder per scenario")->required();
   export_command->add_option("--scenario", export_scenario, "only the scenario of this name or role");
   export_command->add_option("--data-dir", data_dir_flag, data_help);
-  export_command->add_option("--mesh-cache", mesh_cache,
-                             "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
+  export_command->add_option(
+      "--mesh-cache", mesh_cache,
+      "folder of the mesh cache (default $TISSUEBENCH_MESH_CACHE or ~/.cache/tissuebench/meshes)");
   export_command->add_flag("--no-mesh-cache", export_no_cache, "always build the meshes");
   export_command->add_option("--observation-points", export_options.observation_points_dir,
                              "folder of the roles' observation points (default: the repository's " +
@@ -244,7 +247,8 @@ int main(int argc, char** argv) {
       export_options.out_dir = export_out;
       export_options.only_scenario = export_scenario;
       export_options.mesh_cache_dir = export_no_cache ? "" : mesh_cache;
-      if (!export_quiet) export_options.progress = [](const std::string& line) { std::cerr << "tissuebench: " << line << "\n"; };
+      if (!export_quiet)
+        export_options.progress = [](const std::string& line) { std::cerr << "tissuebench: " << line << "\n"; };
       const std::vector<std::string> written = tb::export_problem_packages(e, export_file, export_options);
       std::cerr << "tissuebench: " << written.size() << " problem package(s) written under " << export_out << "\n";
       return 0;

@@ -101,7 +101,9 @@ void schema_errors(const nlohmann::json& value, const nlohmann::json& schema, co
     ASSERT_EQ(ref.rfind(prefix, 0), 0u) << ref;
     schema_errors(value, root["$defs"][ref.substr(prefix.size())], root, at, errors);
   }
-  auto fail = [&](const std::string& what) { errors.push_back(at + ": " + what + " (" + value.dump().substr(0, 80) + ")"); };
+  auto fail = [&](const std::string& what) {
+    errors.push_back(at + ": " + what + " (" + value.dump().substr(0, 80) + ")");
+  };
   if (schema.contains("type")) {
     auto is = [&](const std::string& t) {
       return (t == "object" && value.is_object()) || (t == "array" && value.is_array()) ||
@@ -115,15 +117,16 @@ void schema_errors(const nlohmann::json& value, const nlohmann::json& schema, co
     if (!ok) return fail("not of type " + schema["type"].dump());
   }
   if (schema.contains("const") && value != schema["const"]) fail("not " + schema["const"].dump());
-  if (schema.contains("enum") &&
-      std::find(schema["enum"].begin(), schema["enum"].end(), value) == schema["enum"].end())
+  if (schema.contains("enum") && std::find(schema["enum"].begin(), schema["enum"].end(), value) == schema["enum"].end())
     fail("not one of " + schema["enum"].dump());
   if (value.is_number()) {
     const double x = value;
     if (schema.contains("minimum") && x < schema["minimum"].get<double>()) fail("below the minimum");
     if (schema.contains("maximum") && x > schema["maximum"].get<double>()) fail("above the maximum");
-    if (schema.contains("exclusiveMinimum") && x <= schema["exclusiveMinimum"].get<double>()) fail("not above the bound");
-    if (schema.contains("exclusiveMaximum") && x >= schema["exclusiveMaximum"].get<double>()) fail("not below the bound");
+    if (schema.contains("exclusiveMinimum") && x <= schema["exclusiveMinimum"].get<double>())
+      fail("not above the bound");
+    if (schema.contains("exclusiveMaximum") && x >= schema["exclusiveMaximum"].get<double>())
+      fail("not below the bound");
   }
   if (value.is_string() && schema.contains("pattern") &&
       !std::regex_search(value.get<std::string>(), std::regex(schema["pattern"].get<std::string>())))
