@@ -3,6 +3,8 @@
 //     every scenario with the same recipe (cube pull and push share one), and
 //     kept in a disk cache keyed by its content hash, so a rerun does not re-mesh.
 //  2. Setup: the model is created from the registry and set up; timed on its own.
+//     Steps 2 and 3's frame itself are case_run.h's CaseRun, which the Python module
+//     steps too (python/run_binding.cc); this file records and writes around it.
 //  3. Frames: the load of the frame (ramped, then constant) is applied by step();
 //     only step() is inside the timed region. After each frame the surface
 //     displacement is checked for divergence (NaN/Inf, or beyond a bound).
@@ -31,7 +33,7 @@
 
 #include "atomic_file.h"
 #include "build_info.h"
-#include "mesh_checks.h"
+#include "case_run.h"
 #include "mesh_io.h"
 #include "progress_notice.h"
 #include "resource_limits.h"
@@ -178,20 +180,18 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   CaseOutcome out;
   out.scenario = s.name;
   out.case_name = run.case_name;
-  const ModelInfo& info = find_model(run.model);
   const std::string label = s.name + "/" + run.case_name;
   // A model's own progress lines (a Newton solve of minutes) among the runner's.
   const ScopedProgressNotices notices([&](const std::string& text) { progress.line(label + ": " + text); });
-  Problem problem{&mesh, s.material, s.load_case(), run.parameters, s.probes};
-  check_supported(info, problem.parameters, problem.load_case);  // an unsupported load or tool stops here, before setup
-  std::unique_ptr<Model> model = info.create();
+  CaseRun case_run(s, run, mesh);  // an unsupported load or tool stops here, before setup
+  const ModelInfo& info = case_run.info();
+  const Model* const model = &case_run.model();
 
   // The case's own peak memory: from here (the mesh already resident) to its last frame.
   const bool peak_reset = reset_peak_memory();
   const double load_at_start = load_average_1min();
-  const auto t0 = Clock::now();
-  model->setup(problem);
-  const double setup_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  case_run.setup();
+  const double setup_ms = case_run.setup_ms();
 
   // Outputs are staged in a temporary folder and moved into place at the end (by
   // the writing process only).
@@ -204,7 +204,6 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   }
 
   const Points& rest = mesh.fine_surface.V;
-  const double bound = s.divergence_factor * bounding_box_diagonal(rest);
   // Optional ParaView time series of the surface (scenario "output": "series_every").
   std::ostringstream series;
   const bool write_series = writes && info.dynamic && s.series_every > 0;
@@ -216,9 +215,8 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
                       {{"displacement", u}, {"displacement_magnitude", u.rowwise().norm()}});
     series << "    <DataSet timestep=\"" << frame << "\" file=\"" << name << "\"/>\n";
   };
-  const int changing = s.changing_frames();
-  const int budget = info.dynamic ? (run.max_frames > 0 ? std::min(run.max_frames, s.max_frames) : s.max_frames)
-                                  : std::max(s.static_frames, changing);
+  const int changing = case_run.changing_frames();
+  const int budget = case_run.budget();
   // A dynamic case's displacement at its tracked vertices, frame by frame (trajectory.csv).
   const std::vector<int> tracked = info.dynamic ? tracked_vertices(s, rest) : std::vector<int>();
   std::vector<double> trajectory;
@@ -229,26 +227,21 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
   // Per-frame times of the model's named phases (Model::last_phase_times).
   std::vector<std::pair<std::string, std::vector<double>>> phase_ms;
   for (const PhaseTime& p : model->last_phase_times()) phase_ms.emplace_back(p.name, std::vector<double>());
-  Displacements previous = Displacements::Zero(rest.rows(), 3);
-  double last_change = 0;
-  FrameLoads loads;
   // The force on each tool and the support, per frame (Model::reaction_forces).
   std::vector<std::vector<Eigen::Vector3d>> reactions;
   // Each contact tool's state, per frame (Model::tool_contacts).
   std::vector<std::vector<ToolContact>> contacts;
-  // Each sphere against the deformed surface after each frame: a tunnelled sphere
-  // stops the case, and the faces' penetration is recorded (sphere_guard.h); its
-  // cost per frame, outside the timed step, goes to timings.json.
-  SphereGuard sphere_guard(problem.load_case.tools, mesh.fine_surface);
+  // Each sphere against the deformed surface after each frame (CaseRun::step): a
+  // tunnelled sphere stops the case, and the faces' penetration is recorded
+  // (sphere_guard.h); its cost per frame, outside the timed step, goes to timings.json.
+  const SphereGuard& sphere_guard = case_run.sphere_guard();
   std::vector<double> sphere_guard_ms;
   if (sphere_guard.active()) sphere_guard_ms.reserve(static_cast<size_t>(budget));
   const auto loop_start = Clock::now();
-  for (int frame = 0; frame < budget; ++frame) {
-    s.loads_at(frame, loads);
-    const auto a = Clock::now();
-    model->step(loads);
-    const auto b = Clock::now();
-    step_ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
+  while (!case_run.finished()) {
+    case_run.step();  // the frame's loads, the timed step, the divergence and sphere checks
+    const int frame = case_run.frames() - 1;
+    step_ms.push_back(case_run.last_step_ms());
     iterations.push_back(model->last_iterations());
     for (size_t k = 0; k < phase_ms.size(); ++k) phase_ms[k].second.push_back(model->last_phase_times()[k].ms);
     out.frames = frame + 1;
@@ -256,38 +249,16 @@ CaseOutcome run_case(const Scenario& s, const ModelRun& run, const HybridMesh& m
     if (const auto* c = model->tool_contacts()) contacts.push_back(*c);
 
     const Displacements& u = model->surface_displacement();
-    if (!u.allFinite())
-      throw std::runtime_error("diverged at frame " + std::to_string(frame) + ": NaN or Inf displacement");
-    const double max_u = u.rowwise().norm().maxCoeff();
-    if (max_u > bound) {
-      std::ostringstream msg;
-      if (info.dynamic)
-        msg << "diverged at frame " << frame << ": displacement " << max_u << " m exceeds " << bound
-            << " m (divergence_factor x bounding-box diagonal)";
-      else  // a static solve cannot diverge: the load is too large for the material
-        msg << "the static solution at frame " << frame << " displaces a vertex by " << max_u << " m, beyond " << bound
-            << " m (divergence_factor x bounding-box diagonal): a linear small-strain solution far "
-            << "outside its range (reduce the load or stiffen the material)";
-      throw std::runtime_error(msg.str());
-    }
-    if (sphere_guard.active()) {
-      const auto g = Clock::now();
-      sphere_guard.check(frame, u, loads.tool_values);
-      sphere_guard_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - g).count());
-    }
+    if (sphere_guard.active()) sphere_guard_ms.push_back(case_run.last_sphere_guard_ms());
     if (frame < kTrajectoryFrames)
       for (int v : tracked) trajectory.insert(trajectory.end(), {u(v, 0), u(v, 1), u(v, 2)});
-    last_change = (u - previous).rowwise().norm().maxCoeff();
-    previous = u;
-    const bool steady = info.dynamic && frame + 1 >= changing && last_change <= s.steady_tolerance * max_u;
+    const bool steady = case_run.steady_frame() == frame;
     if (write_series && (frame % s.series_every == 0 || steady)) snapshot(frame, u);
-    if (steady) {
-      out.steady_frame = frame;
-      break;
-    }
+    if (steady) break;
     progress.update(label, frame + 1, budget, std::chrono::duration<double>(Clock::now() - loop_start).count());
   }
-  if (!info.dynamic) out.steady_frame = std::max(0, changing - 1);
+  out.steady_frame = info.dynamic ? case_run.steady_frame() : std::max(0, changing - 1);
+  const double last_change = case_run.last_change();
   const double peak_memory_mib = peak_memory_since_reset_mib();
   const double load_at_end = load_average_1min();
   nlohmann::json processes;
@@ -601,9 +572,7 @@ std::vector<CaseOutcome> run_experiment(const Experiment& e, const RunOptions& o
         write_mesh_folder((fs::path(opt.out_dir) / e.name / s.name / "mesh").string(), *p.mesh, it->second.report);
       // What the scenario places relative to the mesh, and checks that every case
       // shares (tools that hold nothing, probes outside the body): before any case.
-      p.resolved = s;
-      resolve_on_mesh(p.resolved, p.mesh->fine_surface);
-      check_on_mesh(p.resolved, p.mesh->fine_surface);
+      p.resolved = placed_on_mesh(s, p.mesh->fine_surface);
     } catch (const std::exception& ex) {
       p.error = ex.what();
       progress.line(s.name + ": FAILED preparing the scenario: " + p.error);
