@@ -35,7 +35,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FINDINGS_PAGES = [
     "paper_reproduction.md", "variants.md", "liver_steady_state.md", "shapes.md", "xpbd.md", "suite.md",
     "realtime_nonlinear.md", "scaling.md", "pbd_library_comparison.md", "reference_convergence.md",
-    "truth_cube.md", "determinism.md", "robustness.md",
+    "truth_cube.md", "determinism.md", "robustness.md", "prediction_leaderboard.md",
 ]
 SUMMARY_HEADING = "Summary"
 SUMMARY_MAX_LINES = 45
