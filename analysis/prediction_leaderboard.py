@@ -32,7 +32,6 @@ says what the numbers mean.
 import argparse
 import glob
 import json
-import math
 import os
 import re
 import sys
@@ -46,7 +45,7 @@ import metrics  # noqa: E402
 import observation_points as op  # noqa: E402
 import results_index  # noqa: E402
 from results_index import ResultsError  # noqa: E402
-from table_io import fmt, machine_note, markdown_table, write_table  # noqa: E402
+from table_io import fmt, machine_note, write_table  # noqa: E402
 
 REPO = op.REPO
 RESULTS = os.path.join(REPO, "results")
@@ -385,10 +384,9 @@ def board_row(rows, role, points_meta):
 
 def score_table_row(r):
     """A row of prediction_scores."""
-    leaderboard_sig = leaderboard.sig
+    sig = leaderboard.sig
     return [r["role"], r["source"], r["method"], r["model"], str(r["surface_vertices"]), str(r["fine_tets"]),
-            leaderboard_sig(r["rel_l2_converged"]), leaderboard_sig(r["probe_error_mm"]),
-            leaderboard_sig(r["bead_rms_mm"]), fmt(r["median_ms"]), "yes" if r["settled"] else "no",
+            sig(r["rel_l2_converged"]), sig(r["probe_error_mm"]), sig(r["bead_rms_mm"]), fmt(r["median_ms"]), "yes" if r["settled"] else "no",
             "yes" if r["self_reported"] else "no"]
 
 
