@@ -7,6 +7,7 @@ case stepped frame by frame, over the same C++ the tissuebench program runs
     run = tissuebench.Run(experiment.scenarios[0], "fem-direct")
     run.run()
     run.displacement          # #V by 3 numpy array, m
+    tissuebench.read_results("runs/cube-pull").cases   # a results folder as pandas DataFrames
 
 Importable once built, with PYTHONPATH=<build folder>/python, by /usr/bin/python3.
 """
@@ -38,6 +39,7 @@ if "OPENBLAS_CORETYPE" not in _os.environ and _cpu_has_avx2_and_fma():
     _os.environ["OPENBLAS_CORETYPE"] = _PINNED_BLAS_CORE
 
 from ._tissuebench import Error, Experiment, Run, Scenario, blas_core, load, models  # noqa: E402
+from .results import Results, read_results  # noqa: E402  (pandas is imported by read_results only)
 
 if _os.environ.get("OPENBLAS_CORETYPE") == _PINNED_BLAS_CORE and blas_core() != _PINNED_BLAS_CORE:
     _warnings.warn(
@@ -46,4 +48,4 @@ if _os.environ.get("OPENBLAS_CORETYPE") == _PINNED_BLAS_CORE and blas_core() != 
         "(docs/determinism.md). Import tissuebench first, or set OPENBLAS_CORETYPE before starting Python.",
         stacklevel=2)
 
-__all__ = ["Error", "Experiment", "Run", "Scenario", "blas_core", "load", "models"]
+__all__ = ["Error", "Experiment", "Results", "Run", "Scenario", "blas_core", "load", "models", "read_results"]

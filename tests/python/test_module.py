@@ -282,6 +282,34 @@ class RunAgainstTheProgram(Folder):
         self.assertTrue(run.dynamic)
         self.assertIsNone(run.probes)  # pbd has no volume
 
+    def test_read_results_is_the_programs_folder_as_data_frames(self):
+        r = tissuebench.read_results(os.path.join(self.out, "small"))
+        self.assertEqual((r.name, r.reference), ("small", "fem-direct"))
+        self.assertEqual(list(r.cases["case"]), ["fem-direct", "pbd"])
+        for case in ("fem-direct", "pbd"):
+            row = r.cases[r.cases["case"] == case].iloc[0]
+            with open(os.path.join(self.case_dir(case), "run.json")) as f:
+                written = json.load(f)
+            with open(os.path.join(self.case_dir(case), "timings.json")) as f:
+                timings = json.load(f)
+            self.assertEqual((row["model"], row["frames"], row["steady_frame"]),
+                             (written["model"], written["frames"], written["steady_frame"]))
+            self.assertEqual(row["step_median_ms"], timings["step"]["median_ms"])
+            self.assertIsNone(row["error"])
+            series = r.frames[r.frames["case"] == case]
+            self.assertEqual(list(series["frame"]), list(range(written["frames"])))
+            self.assertEqual(list(series["step_ms"]), timings["step_ms_per_frame"])
+        # pbd against the reference on the top surface, as metrics.compare computes it.
+        self.assertEqual(list(r.metrics["case"]), ["pbd"])
+        u = {c: np.array([[float(row[k]) for k in ("ux", "uy", "uz")]
+                          for row in read_csv(os.path.join(self.case_dir(c), "top_surface.csv"))])
+             for c in ("fem-direct", "pbd")}
+        self.assertAlmostEqual(r.metrics["rel_l2"].iloc[0],
+                               np.linalg.norm(u["pbd"] - u["fem-direct"]) / np.linalg.norm(u["fem-direct"]), 12)
+        with self.assertRaises(tissuebench.Error) as caught:
+            tissuebench.read_results(os.path.join(self.tmp, "nowhere"))
+        self.assertIn("nowhere: no such results folder", str(caught.exception))
+
     def test_a_step_after_the_last_frame_is_an_error(self):
         run = tissuebench.Run(self.scenario, "fem-direct", mesh_cache=self.cache)
         self.assertEqual(run.run(), 4)
@@ -310,6 +338,9 @@ class RunAgainstTheProgram(Folder):
                              "--quiet", "--model", "fem-direct", "--set", "load.force=[0,0,1e9]")
         self.assertEqual(status, 1)
         self.assertIn("tissuebench: " + message, err.splitlines(), err)
+        cases = tissuebench.read_results(os.path.join(self.tmp, "diverged", "small")).cases
+        self.assertEqual(list(cases["case"]), ["fem-direct"])
+        self.assertEqual(cases["error"].iloc[0], message[len("small/fem-direct failed: "):])
         for again in (run.step, run.run):
             with self.assertRaises(tissuebench.Error) as caught:
                 again()
