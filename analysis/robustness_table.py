@@ -35,6 +35,7 @@ READERS = {
     "scenario": "scenario and experiment JSON",
     "probes_csv": "probe-point CSV",
     "truth_cube_csv": "Truth Cube bead table",
+    "submission": "benchmark submission",
 }
 
 
