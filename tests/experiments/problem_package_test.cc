@@ -197,7 +197,9 @@ TEST(ProblemPackage, CubePullDiscFilesMatchTheMeshTheLoadsAndTheCommittedPoints)
   EXPECT_EQ(problem["meshes"]["surface"]["triangles"], obj.F.rows());
   const SurfaceMesh stl = read_surface((package / "surface.stl").string());
   EXPECT_EQ(stl.V.rows(), obj.V.rows());
-  EXPECT_EQ(stl.F.rows(), obj.F.rows());
+  ASSERT_EQ(stl.F.rows(), obj.F.rows());
+  for (Eigen::Index t = 0; t < obj.F.rows(); ++t)  // the same triangles, corner by corner, to the bit
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(stl.V.row(stl.F(t, k)), obj.V.row(obj.F(t, k))) << "triangle " << t;
   const TetMesh vtu = read_volume((package / "volume.vtu").string());
   const TetMesh msh = read_volume((package / "volume.msh").string());
   EXPECT_EQ(msh.V, vtu.V);
@@ -316,13 +318,35 @@ void expect_cli_error(const std::string& args, const std::string& file, const st
   EXPECT_NE(output.find(problem), std::string::npos) << output;
 }
 
+/// export_problem_packages on `experiment` with `options` fails with one line naming
+/// `file` and saying `problem`.
+void expect_export_error(const std::string& experiment, ExportOptions options, const std::string& file,
+                         const std::string& problem) {
+  options.mesh_cache_dir = cache().path.string();
+  try {
+    export_problem_packages(load_experiment(experiment), experiment, options);
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_NE(what.find(file), std::string::npos) << what;
+    EXPECT_NE(what.find(problem), std::string::npos) << what;
+  }
+}
+
 TEST(ProblemPackage, BadInputsAreOneLineErrorsNamingTheFile) {
   const testing::TempFolder out("problem-package-errors");
   const std::string cube = suite_experiment("cube_pull_disc", "cube-pull-disc.json");
-  expect_cli_error(cube + " --scenario no_such_role --out " + out / "p", cube, "no scenario named 'no_such_role'");
+  ExportOptions o;
+  o.out_dir = out / "p";
+  o.only_scenario = "no_such_role";
+  expect_export_error(cube, o, cube, "no scenario named 'no_such_role'");
   std::ofstream(out / "blocker") << "a file\n";
-  expect_cli_error(cube + " --out " + out / "blocker/p", out / "blocker/p", "cannot create the output folder");
-  // Points missing for the role: nothing is written, not even a staging folder.
+  o.only_scenario.clear();
+  o.out_dir = out / "blocker/p";
+  expect_export_error(cube, o, out / "blocker/p", "cannot create the output folder");
+  // Points missing for the role, through the program: one line, a failing status, and
+  // nothing written, not even a staging folder.
   fs::create_directories(out / "empty");
   expect_cli_error(cube + " --mesh-cache " + cache().path.string() + " --observation-points " + out / "empty" +
                        " --out " + out / "p",
