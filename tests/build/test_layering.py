@@ -5,6 +5,7 @@ Headers are included by file name (their folders are on the include path), so a
 name must be unique in the tree; this test resolves each include to its file and
 fails when a lower layer includes a higher one:
 
+  python/                      the Python module's bindings: may include experiments/ and below
   experiments/                 may include models/ and meshing/
   models/ (root files)         the Model interface and registry: numerics, meshing, model folders
   models/<model>/              a registered model: models/ root, numerics, meshing, its own folder
@@ -19,15 +20,17 @@ import sys
 import unittest
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.M)
-CODE_DIRS = ("meshing", "models", "experiments")
+CODE_DIRS = ("meshing", "models", "experiments", "python")
 # The one models/ root header numerics may use: parameter declarations (name,
 # default, range, description) that every layer above resolves.
 NUMERICS_MAY_USE_FROM_ROOT = {"models/parameters.h"}
 
 
 def layer(path):
-    """('meshing' | 'numerics' | 'model' | 'models_root' | 'experiments', folder)."""
+    """('meshing' | 'numerics' | 'model' | 'models_root' | 'experiments' | 'python', folder)."""
     parts = path.split("/")
+    if parts[0] == "python":
+        return "python", "python"
     if parts[0] == "meshing":
         return "meshing", "meshing"
     if parts[0] == "experiments":
@@ -41,6 +44,8 @@ def layer(path):
 
 def allowed(src, dst):
     (ls, fs), (ld, fd) = layer(src), layer(dst)
+    if ld == "python" or ls == "python":  # the top layer: it includes every other, none includes it
+        return ls == "python"
     if ls == "meshing":
         return ld == "meshing"
     if ls == "numerics":
@@ -108,6 +113,8 @@ class LayeringTest(unittest.TestCase):
         self.assertFalse(allowed("meshing/shapes.h", "models/numerics/pbd/constraints.h"))
         self.assertFalse(allowed("models/hybrid/hybrid_model.cc", "models/fem/fem_model.h"))
         self.assertFalse(allowed("models/model.h", "experiments/scenario.h"))
+        self.assertFalse(allowed("experiments/runner.cc", "python/python_bindings.h"))
+        self.assertTrue(allowed("python/run_binding.cc", "experiments/case_run.h"))
         self.assertTrue(allowed("models/hybrid/hybrid_model.cc", "models/numerics/pbd/pbd_solver.h"))
         self.assertTrue(allowed("models/numerics/pbd/pbd_solver.h", "models/parameters.h"))
 
