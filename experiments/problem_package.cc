@@ -71,6 +71,24 @@ std::string points_csv(const std::vector<std::string>& id, const std::vector<std
 
 std::string load_file(size_t k) { return "load_" + std::to_string(k) + ".csv"; }
 std::string tool_file(size_t k) { return "tool_" + std::to_string(k) + ".csv"; }
+std::string held_file(size_t k) { return "tool_" + std::to_string(k) + "_vertices.csv"; }
+
+/// A "vertex" column of surface vertex indices.
+std::string vertex_csv(const std::vector<int>& vertices) {
+  std::ostringstream os;
+  os << "vertex\n";
+  for (int v : vertices) os << v << '\n';
+  return os.str();
+}
+
+/// The surface vertices the support holds, ascending.
+std::vector<int> support_vertices(const Scenario& s, const SurfaceMesh& surface) {
+  const std::vector<char> clamped = s.support.select(surface.V);
+  std::vector<int> out;
+  for (size_t v = 0; v < clamped.size(); ++v)
+    if (clamped[v]) out.push_back(static_cast<int>(v));
+  return out;
+}
 
 /// Whether surface vertex v is volume node v for every v (volume_ordering.h keeps
 /// the surface's vertices first).
@@ -140,10 +158,9 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
                                 "the surface vertices whose rest position lies in the box (null: "
                                 "unbounded) are held fixed"}};
   if (s.support_lowest_fraction >= 0) definition["lowest_fraction"] = s.support_lowest_fraction;
-  const std::vector<char> clamped = s.support.select(mesh.fine_surface.V);
   j["support"] = {{"definition", definition},
                   {"vertices", "support_vertices.csv"},
-                  {"count", std::count(clamped.begin(), clamped.end(), char(1))}};
+                  {"count", support_vertices(s, mesh.fine_surface).size()}};
   j["loads"] = nlohmann::json::array();
   for (size_t k = 0; k < load_case.loads.size(); ++k) {
     const Load& l = load_case.loads[k];
@@ -174,6 +191,7 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
     e["value"] = t.kind == ToolKind::Sphere ? "the sphere's centre (m)" : "the displacement of what it holds (m)";
     if (t.kind == ToolKind::Sphere) e["first_centre"] = vec(t.point);
     e["held_vertices"] = tool_vertices(t, mesh.fine_surface, s.support).size();
+    if (t.kind != ToolKind::Sphere) e["held_vertices_file"] = held_file(k);
     j["tools"].push_back(e);
   }
   j["time"] = {{"dt", package_time_step(s)},
@@ -221,12 +239,13 @@ void write_problem_files(const Scenario& s, const HybridMesh& mesh, const Observ
   write_volume_vtu(path("volume.vtu"), mesh.fine_volume, {{"surface_vertex", surface_vertex}});
   write_gmsh41(path("volume.msh"), mesh.fine_volume);
 
-  std::ostringstream support;
-  support << "vertex\n";
-  const std::vector<char> clamped = s.support.select(mesh.fine_surface.V);
-  for (size_t v = 0; v < clamped.size(); ++v)
-    if (clamped[v]) support << v << '\n';
-  write_file_atomically(path("support_vertices.csv"), support.str());
+  write_file_atomically(path("support_vertices.csv"), vertex_csv(support_vertices(s, mesh.fine_surface)));
+  // What each tool holds, as tool_placement.h chooses it: a simulator need not redo the
+  // choice (a grasp's radius, a plate's box) to hold the same vertices.
+  for (size_t k = 0; k < s.tools.size(); ++k)
+    if (s.tools[k].tool.kind != ToolKind::Sphere)
+      write_file_atomically(path(held_file(k)),
+                            vertex_csv(tool_vertices(s.tools[k].tool, mesh.fine_surface, s.support)));
 
   std::vector<FrameLoads> per_frame(static_cast<size_t>(frames));
   for (int f = 0; f < frames; ++f) s.loads_at(f, per_frame[static_cast<size_t>(f)]);

@@ -18,6 +18,7 @@
 #include "mesh_recipe.h"
 #include "runner.h"
 #include "test_support.h"
+#include "tool_placement.h"
 
 namespace tb {
 namespace {
@@ -265,7 +266,12 @@ TEST(ProblemPackage, LBlockGraspHasItsToolPathAndPoints) {
   ASSERT_EQ(problem["tools"].size(), 1u);
   EXPECT_EQ(problem["tools"][0]["type"], "grasp");
   EXPECT_EQ(problem["tools"][0]["path"], "tool_0.csv");
-  EXPECT_GT(problem["tools"][0]["held_vertices"].get<int>(), 0);
+  const std::vector<int> held = tool_vertices(s.tools[0].tool, mesh.fine_surface, s.support);
+  EXPECT_GT(held.size(), 0u);
+  EXPECT_EQ(problem["tools"][0]["held_vertices"], held.size());
+  std::vector<std::vector<std::string>> held_rows{{"vertex"}};
+  for (int v : held) held_rows.push_back({std::to_string(v)});
+  EXPECT_EQ(csv_rows((package / "tool_0_vertices.csv").string()), held_rows);
   EXPECT_EQ(problem["submission"]["files"].back(), "forces.csv");
   const int frames = problem["time"]["frames"];
   const std::vector<Eigen::Vector3d> tool = frame_values((package / "tool_0.csv").string());
