@@ -120,8 +120,9 @@ Calibration run_calibration(int repeats) {
 }
 
 nlohmann::json Calibration::to_json() const {
-  return {{"figure_ms", figure_ms},       {"repeats", times_ms.size()}, {"times_ms", times_ms},
-          {"workload", calibration_workload()}, {"checksum", checksum},    {"machine", machine}};
+  return {{"figure_ms", figure_ms}, {"repeats", times_ms.size()},
+          {"times_ms", times_ms},   {"workload", calibration_workload()},
+          {"checksum", checksum},   {"machine", machine}};
 }
 
 double calibration_figure(const std::string& value) {

@@ -14,10 +14,10 @@
 namespace tb {
 
 struct Calibration {
-  double figure_ms = 0;           ///< median over the repeats of one repeat's time
-  std::vector<double> times_ms;   ///< each repeat's time, in order
-  double checksum = 0;            ///< of the forces: the same on every run of one build
-  nlohmann::json machine;         ///< cpu, cores, build, load average (build_info.h)
+  double figure_ms = 0;          ///< median over the repeats of one repeat's time
+  std::vector<double> times_ms;  ///< each repeat's time, in order
+  double checksum = 0;           ///< of the forces: the same on every run of one build
+  nlohmann::json machine;        ///< cpu, cores, build, load average (build_info.h)
   /// {"figure_ms", "repeats", "times_ms", "workload", "checksum", "machine"}.
   nlohmann::json to_json() const;
 };

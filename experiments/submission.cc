@@ -230,9 +230,9 @@ Submission read_submission(const std::string& dir, const ProblemPackage& package
   check_submission_json(s.meta, json_file, package);
 
   const std::string displacements = path_in(dir, "displacements.csv");
-  FrameTable u = read_frame_table(displacements, submission_file_bound(package, "displacements.csv"),
-                                  {"frame", "id", "ux", "uy", "uz"}, package.point_ids(), package.frames,
-                                  "observation point");
+  FrameTable u =
+      read_frame_table(displacements, submission_file_bound(package, "displacements.csv"),
+                       {"frame", "id", "ux", "uy", "uz"}, package.point_ids(), package.frames, "observation point");
   for (int f : package.observation_frames)
     if (std::find(u.frames.begin(), u.frames.end(), f) == u.frames.end())
       throw MeshError(displacements, "no rows for frame " + std::to_string(f) +

@@ -20,12 +20,12 @@ namespace tb {
 struct ProblemPackage {
   std::string dir;
   std::string scenario;
-  std::string role;                         ///< the suite role; "" if none
-  int frames = 0;                           ///< time.frames: frames 0..frames-1
-  std::vector<int> observation_frames;      ///< increasing, each in 0..frames-1
-  std::vector<std::string> surface_ids;     ///< observation_points.csv's ids, its order
-  std::vector<std::string> interior_ids;    ///< observation_interior.csv's; empty if none
-  std::vector<std::string> tools;           ///< tools[].name, in order; empty if none
+  std::string role;                       ///< the suite role; "" if none
+  int frames = 0;                         ///< time.frames: frames 0..frames-1
+  std::vector<int> observation_frames;    ///< increasing, each in 0..frames-1
+  std::vector<std::string> surface_ids;   ///< observation_points.csv's ids, its order
+  std::vector<std::string> interior_ids;  ///< observation_interior.csv's; empty if none
+  std::vector<std::string> tools;         ///< tools[].name, in order; empty if none
   /// Every observation point: the surface ids, then the interior ones.
   std::vector<std::string> point_ids() const;
 };
@@ -38,8 +38,8 @@ ProblemPackage read_problem_package(const std::string& dir);
 /// One submission's values, in the package's order.
 struct Submission {
   std::string dir;
-  nlohmann::json meta;                 ///< submission.json as read (every key checked)
-  std::vector<int> frames;             ///< reported frames, increasing
+  nlohmann::json meta;      ///< submission.json as read (every key checked)
+  std::vector<int> frames;  ///< reported frames, increasing
   /// displacements[f]: #points by 3 (m) at frames[f], rows in point_ids() order.
   std::vector<Points> displacements;
   /// forces[f]: #tools by 3 (N) at frames[f], rows in tools order; empty without tools.

@@ -60,7 +60,9 @@ Points in_answer_order(const Points& values, const std::vector<std::string>& ids
   return out;
 }
 
-Eigen::Vector3d vec3(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+Eigen::Vector3d vec3(const nlohmann::json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
 
 }  // namespace
 
@@ -140,7 +142,7 @@ ObservationScores score_observations(const ObservationAnswers& answers, const Po
 }
 
 nlohmann::json score_submission(const Submission& submission, const ProblemPackage& package,
-                                 const ScoreOptions& options) {
+                                const ScoreOptions& options) {
   const int frame = package.observation_frames.back();
   const Points& all = submission.displacements.at(static_cast<size_t>(submission.frame_index(frame)));
   const auto surface_rows = static_cast<Eigen::Index>(package.surface_ids.size());
@@ -185,13 +187,14 @@ nlohmann::json score_submission(const Submission& submission, const ProblemPacka
     const double reported = meta["timing"][key].get<double>();
     return nlohmann::json{{"reported", reported}, {"normalised", reported * factor}};
   };
-  out["timing"] = {{"self_reported", true},
-                   {"normalised_as", "time * this machine's calibration figure / the submission's (tissuebench calibrate)"},
-                   {"calibration_ms", {{"submission", theirs}, {"this_machine", options.machine_figure_ms}}},
-                   {"factor", factor},
-                   {"frame_median_ms", time("frame_median_ms")},
-                   {"frame_p95_ms", time("frame_p95_ms")},
-                   {"setup_s", time("setup_s")}};
+  out["timing"] = {
+      {"self_reported", true},
+      {"normalised_as", "time * this machine's calibration figure / the submission's (tissuebench calibrate)"},
+      {"calibration_ms", {{"submission", theirs}, {"this_machine", options.machine_figure_ms}}},
+      {"factor", factor},
+      {"frame_median_ms", time("frame_median_ms")},
+      {"frame_p95_ms", time("frame_p95_ms")},
+      {"setup_s", time("setup_s")}};
   out["peak_memory_mib"] = {{"self_reported", true}, {"reported", meta["peak_memory_mib"]}};
   out["threads"] = meta["threads"];
   out["machine"] = meta["machine"];

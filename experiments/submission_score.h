@@ -71,17 +71,17 @@ ObservationScores score_observations(const ObservationAnswers& answers, const Po
                                      const Points* probe_values, const DataDir& data);
 
 struct ScoreOptions {
-  std::string answers_dir;         ///< default: the repository's results/observation_points
-  DataDir data;                    ///< for the Truth Cube's bead table
-  double machine_figure_ms = 0;    ///< this machine's calibration figure (calibration.h)
-  nlohmann::json machine;          ///< what calibrate says of this machine, or null
+  std::string answers_dir;       ///< default: the repository's results/observation_points
+  DataDir data;                  ///< for the Truth Cube's bead table
+  double machine_figure_ms = 0;  ///< this machine's calibration figure (calibration.h)
+  nlohmann::json machine;        ///< what calibrate says of this machine, or null
 };
 
 /// score.json: the submission's scores at the package's last observation frame, its
 /// self-reported times as reported and normalised (time * this machine's figure /
 /// the submission's), marked self_reported.
 nlohmann::json score_submission(const Submission& submission, const ProblemPackage& package,
-                                 const ScoreOptions& options);
+                                const ScoreOptions& options);
 
 /// The one-screen summary score prints.
 std::string score_summary(const nlohmann::json& score);

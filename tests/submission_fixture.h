@@ -41,7 +41,8 @@ inline void write_tiny_package(const std::string& dir, bool with_tool = true) {
  "time": {"dt": 0.01, "frames": 3, "ramp_frames": 1},
  "observation": {"surface_points": "observation_points.csv", "interior_points": "observation_interior.csv",
                  "frames": [1, 2]},
- "tools": )") + (with_tool ? R"([{"name": "grasp", "type": "grasp", "path": "tool_0.csv"}])" : "[]") + "}\n");
+ "tools": )") + (with_tool ? R"([{"name": "grasp", "type": "grasp", "path": "tool_0.csv"}])" : "[]") +
+                 "}\n");
   write_text(in_dir(dir, "observation_points.csv"),
              "id,patch,x,y,z\ns0,top_face,0,0,0.1\ns1,top_face,0.01,0,0.1\ns2,top_face,0,0.01,0.1\n");
   write_text(in_dir(dir, "observation_interior.csv"), "id,x,y,z\np0,0,0,0.05\n");
@@ -53,7 +54,8 @@ inline void write_tiny_answers(const std::string& dir) {
   write_text(in_dir(dir, "tiny_role.csv"),
              "id,patch,x,y,z,ux,uy,uz\ns2,top_face,0,0.01,0.1,0,0,0.002\ns0,top_face,0,0,0.1,0.001,0,0\n"
              "s1,top_face,0.01,0,0.1,0,0.002,0\n");
-  write_text(in_dir(dir, "tiny_role_interior.csv"), "id,patch,x,y,z,ux,uy,uz\np0,interior,0,0,0.05,0.001,0.002,0.002\n");
+  write_text(in_dir(dir, "tiny_role_interior.csv"),
+             "id,patch,x,y,z,ux,uy,uz\np0,interior,0,0,0.05,0.001,0.002,0.002\n");
   write_text(in_dir(dir, "tiny_role.json"),
              R"({"role": "tiny_role", "converged": {"run": "P2 L1", "estimated_error": 0.01}, "note": ""})"
              "\n");

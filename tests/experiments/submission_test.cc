@@ -2,14 +2,18 @@
 // a hand-made package (tests/submission_fixture.h) scored to hand-computed values,
 // the converged answers themselves scoring 0, and every kind of malformed
 // submission refused with one line naming the file (and the line or key).
+#include "submission.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <iomanip>
+#include <set>
+#include <sstream>
 
 #include "calibration.h"
 #include "cli_run.h"
-#include "submission.h"
 #include "submission_fixture.h"
 #include "submission_score.h"
 #include "test_support.h"
@@ -142,7 +146,8 @@ TEST(Submission, BeadRmsAgainstTheMeasuredBeads) {
   Points u(2, 3);
   u << 0, 0, -0.001, 0, 0, 0;
   EXPECT_NEAR(bead_rms_mm(table, nlohmann::json::parse(R"({"compare_at_strain": 0.05, "frame":
-      {"origin_mm": [0, 0, 0], "centre_m": [0, 0, 0], "axes": [1, 1, 1]}})"), {0, 1}, u),
+      {"origin_mm": [0, 0, 0], "centre_m": [0, 0, 0], "axes": [1, 1, 1]}})"),
+                          {0, 1}, u),
               std::sqrt(2.0), 1e-9);
 }
 
@@ -205,8 +210,8 @@ TEST(SubmissionErrors, Folder) {
       {"no forces.csv", [](const Tiny& t) { fs::remove(in_dir(t.submission, "forces.csv")); }, "forces.csv", "",
        "missing"},
       {"an extra file", rewrite("notes.txt", "hello\n"), "notes.txt", "", "unexpected file"},
-      {"a folder", [](const Tiny& t) { fs::remove_all(t.submission), write_text(t.submission, "x"); }, "submission",
-       "", "not a folder"},
+      {"a folder", [](const Tiny& t) { fs::remove_all(t.submission), write_text(t.submission, "x"); }, "submission", "",
+       "not a folder"},
   };
   for (const Bad& b : cases) expect_refused(b);
   expect_refused({"forces.csv without tools", rewrite("forces.csv", "frame,tool,fx,fy,fz\n"), "forces.csv", "",
@@ -224,8 +229,9 @@ TEST(SubmissionErrors, SubmissionJson) {
       {"not an object", rewrite(f, "[]"), f, "", "must be a JSON object"},
       {"a missing key", replace(f, "\"method\": \"hand-written\",", ""), f, "method", "missing"},
       {"an unknown key", replace(f, "\"threads\": 1,", "\"threads\": 1, \"gpu\": true,"), f, "gpu", "unknown key"},
-      {"no units", replace(f, "\"units\": {\"length\": \"m\", \"force\": \"N\", \"time\": \"ms\", \"memory\": \"MiB\"},", ""),
-       f, "units", "missing"},
+      {"no units",
+       replace(f, "\"units\": {\"length\": \"m\", \"force\": \"N\", \"time\": \"ms\", \"memory\": \"MiB\"},", ""), f,
+       "units", "missing"},
       {"a unit missing", replace(f, ", \"time\": \"ms\"", ""), f, "units.time", "missing"},
       {"a unit not the contract's", replace(f, "\"length\": \"m\"", "\"length\": \"mm\""), f, "units.length",
        "'mm' is not one of m"},
@@ -277,10 +283,12 @@ TEST(SubmissionErrors, DisplacementsCsv) {
        "frame 1 after frame 2: frames must increase"},
       {"a frame's rows apart", replace(f, "1,p0,0.0005,0.001,0.0012\n2,s0,0.001,0,0\n", "2,s0,0.001,0,0\n1,p0,0,0,0\n"),
        f, "line 5", "frame 1 has no row for observation point 'p0'"},
-      {"a frame beyond the scenario", replace(f, "2,s0", "3,s0"), f, "line 6", "frame 3 is not a frame of the scenario"},
+      {"a frame beyond the scenario", replace(f, "2,s0", "3,s0"), f, "line 6",
+       "frame 3 is not a frame of the scenario"},
       {"a negative frame", replace(f, "1,s0", "-1,s0"), f, "line 2", "frame -1 is not a frame"},
-      {"an observation frame missing", rewrite(f, "frame,id,ux,uy,uz\n1,s0,0,0,0\n1,s1,0,0,0\n1,s2,0,0,0\n1,p0,0,0,0\n"),
-       f, "", "no rows for frame 2, an observation frame"},
+      {"an observation frame missing",
+       rewrite(f, "frame,id,ux,uy,uz\n1,s0,0,0,0\n1,s1,0,0,0\n1,s2,0,0,0\n1,p0,0,0,0\n"), f, "",
+       "no rows for frame 2, an observation frame"},
       {"header only", rewrite(f, "frame,id,ux,uy,uz\n"), f, "", "no rows for frame 1"},
       {"too large", [f](const Tiny& t) { t.write(f, t.read(f) + std::string(size_t{1} << 20, '\n')); }, f, "",
        "bytes, more than"},
@@ -302,6 +310,85 @@ TEST(SubmissionErrors, ForcesCsv) {
        "frames must increase"},
   };
   for (const Bad& b : cases) expect_refused(b);
+}
+
+/// The package `tissuebench export` writes for the suite's pulled cube, and a submission
+/// of the committed converged field at its observation frame: 0; and of 0.9 times it: 0.1.
+/// The export's problem.json and point files are read as score reads them (the contract
+/// between the two, docs/benchmark_format.md).
+TEST(SubmissionCommand, AnExportedPackageScoresTheConvergedFieldToZero) {
+  const testing::TempFolder root("submission-export");
+  std::string out;
+  ASSERT_EQ(
+      testing::run_tissuebench("export " + std::string(TB_SOURCE_DIR) +
+                                   "/experiments/suite.json --scenario cube_pull_disc --quiet --out " + (root / "pk"),
+                               out),
+      0)
+      << out;
+  const std::string package = root / "pk/suite-cube-pull-disc";
+  const ProblemPackage p = read_problem_package(package);
+  EXPECT_EQ(p.role, "cube_pull_disc");
+  EXPECT_TRUE(p.tools.empty());
+  const ObservationAnswers a =
+      read_observation_answers((fs::path(TB_SOURCE_DIR) / "results" / "observation_points").string(), p.role);
+  for (const double scale : {1.0, 0.9}) {
+    const std::string dir = root / ("scaled-" + std::to_string(scale));
+    fs::create_directories(dir);
+    std::string json = testing::tiny_submission()["submission.json"];
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"\"tiny\"", "\"" + p.scenario + "\""},
+                                   {"\"tiny_role\"", "\"" + p.role + "\""}})
+      json.replace(json.find(from), from.size(), to);
+    write_text(in_dir(dir, "submission.json"), json);
+    std::ostringstream csv;
+    csv << std::setprecision(17) << "frame,id,ux,uy,uz\n";
+    for (size_t k = 0; k < a.surface.ids.size(); ++k) {
+      const auto u = (scale * a.surface.u.row(static_cast<Eigen::Index>(k))).eval();
+      csv << p.observation_frames.back() << "," << a.surface.ids[k] << "," << u(0) << "," << u(1) << "," << u(2)
+          << "\n";
+    }
+    write_text(in_dir(dir, "displacements.csv"), csv.str());
+    ASSERT_EQ(testing::run_tissuebench("score " + dir + " --package " + package + " --calibration 100", out), 0) << out;
+    std::ifstream written(in_dir(dir, "score.json"));
+    EXPECT_NEAR(nlohmann::json::parse(written)["rel_l2_converged"].get<double>(), 1 - scale, 1e-12) << out;
+  }
+}
+
+/// submission.schema.json and the reader agree: the schema's keys are the fixture's,
+/// key for key, and each key it requires the reader requires too.
+TEST(SubmissionSchema, TheSchemasKeysAreTheReadersKeys) {
+  std::ifstream in(fs::path(TB_SOURCE_DIR) / "docs/schemas/submission.schema.json");
+  const nlohmann::json schema = nlohmann::json::parse(in);
+  const nlohmann::json valid = nlohmann::json::parse(testing::tiny_submission()["submission.json"]);
+  std::function<void(const nlohmann::json&, const nlohmann::json&, const std::vector<std::string>&)> walk =
+      [&](const nlohmann::json& s, const nlohmann::json& value, const std::vector<std::string>& path) {
+        std::string where;
+        for (const std::string& k : path) where += "." + k;
+        SCOPED_TRACE(where);
+        if (s.contains("const")) {
+          EXPECT_EQ(s["const"], value);
+        }
+        if (!s.contains("properties")) return;
+        EXPECT_EQ(s["additionalProperties"], false);
+        std::set<std::string> keys, properties;
+        for (const auto& [k, v] : value.items()) keys.insert(k);
+        for (const auto& [k, v] : s["properties"].items()) properties.insert(k);
+        EXPECT_EQ(keys, properties);
+        for (const std::string key : s["required"]) {
+          nlohmann::json without = valid;
+          nlohmann::json* parent = &without;
+          for (const std::string& k : path) parent = &(*parent)[k];
+          parent->erase(key);
+          const std::string m = refusal([&](const Tiny& t) { t.write("submission.json", without.dump()); });
+          EXPECT_NE(m.find("submission.json" + where + "." + key + ": missing"), std::string::npos) << m;
+        }
+        for (const auto& [k, v] : s["properties"].items())
+          if (value.contains(k)) {
+            std::vector<std::string> inner = path;
+            inner.push_back(k);
+            walk(v, value[k], inner);
+          }
+      };
+  walk(schema, valid, {});
 }
 
 // The command line: a bad submission is one line "tissuebench: <file>: line <n>:
