@@ -52,6 +52,7 @@ class Run {
     } catch (const std::exception& e) {
       throw std::runtime_error(label_ + " failed: " + e.what());  // the tissuebench program's line
     }
+    after_step();
   }
 
   void step() {
@@ -63,22 +64,36 @@ class Run {
     } catch (const std::exception& e) {
       busy_ = false;
       error_ = e.what();
+      after_step();
       throw std::runtime_error(label_ + " failed: " + error_);
     }
     busy_ = false;
     step_ms_.push_back(case_->last_step_ms());
+    after_step();
   }
 
   int run() {
     if (!error_.empty() || busy_) check_can_step();
-    while (!case_->finished()) {
+    while (!state_.finished) {
       step();
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between frames
     }
-    return case_->frames();
+    return state_.frames;
   }
 
-  const CaseRun& case_run() const { return *case_; }
+  /// Where the case is, as of the last frame; readable while another thread steps.
+  struct State {
+    int frames = 0, budget = 0, steady_frame = -1;
+    bool finished = false, dynamic = false;
+    double setup_ms = 0;
+  };
+  const State& state() const { return state_; }
+  /// The case and its model, between steps only: while another thread steps (the
+  /// GIL released), reading the model's arrays would race with the frame writing them.
+  const CaseRun& case_run() const {
+    if (busy_) throw std::runtime_error(label_ + ": stepping in another thread; read its results between steps");
+    return *case_;
+  }
   const Scenario& scenario() const { return placed_; }
   const ModelRun& model_run() const { return placed_.models[index_]; }
   const HybridMesh& mesh() const { return *mesh_; }
@@ -86,16 +101,21 @@ class Run {
   const std::string& error() const { return error_; }
 
  private:
+  void after_step() {
+    state_ = {case_->frames(),   case_->budget(),       case_->steady_frame(),
+              case_->finished(), case_->info().dynamic, case_->setup_ms()};
+  }
+
   void check_can_step() const {
     if (busy_) throw std::runtime_error(label_ + ": already stepping in another thread");
     if (!error_.empty())
-      throw std::runtime_error(label_ + " failed at frame " + std::to_string(case_->frames() - 1) +
+      throw std::runtime_error(label_ + " failed at frame " + std::to_string(state_.frames - 1) +
                                ", before this step: " + error_ + " (make a new Run to start again)");
-    if (case_->finished()) {
-      const int steady = case_->steady_frame();
-      throw std::runtime_error(label_ + ": no frame left after " + std::to_string(case_->frames()) + " frames (" +
+    if (state_.finished) {
+      const int steady = state_.steady_frame;
+      throw std::runtime_error(label_ + ": no frame left after " + std::to_string(state_.frames) + " frames (" +
                                (steady >= 0 ? "steady from frame " + std::to_string(steady)
-                                            : "the frame budget of " + std::to_string(case_->budget()) + " frames") +
+                                            : "the frame budget of " + std::to_string(state_.budget) + " frames") +
                                ")");
     }
   }
@@ -108,6 +128,7 @@ class Run {
   std::unique_ptr<CaseRun> case_;
   std::vector<double> step_ms_;
   std::string error_;  // why a step failed; then no step more
+  State state_;        // written with the GIL held, after each step
   bool busy_ = false;
 };
 
@@ -141,17 +162,17 @@ again. The GIL is released while C++ builds, sets up and steps.)")
       .def_property_readonly("scenario", [](const Run& r) { return r.scenario().name; })
       .def_property_readonly("case", [](const Run& r) { return r.model_run().case_name; })
       .def_property_readonly("model", [](const Run& r) { return r.model_run().model; })
-      .def_property_readonly("dynamic", [](const Run& r) { return r.case_run().info().dynamic; })
+      .def_property_readonly("dynamic", [](const Run& r) { return r.state().dynamic; })
       .def_property_readonly(
-          "frames", [](const Run& r) { return r.case_run().frames(); }, "frames stepped")
+          "frames", [](const Run& r) { return r.state().frames; }, "frames stepped")
       .def_property_readonly(
-          "budget", [](const Run& r) { return r.case_run().budget(); },
+          "budget", [](const Run& r) { return r.state().budget; },
           "frames at most: frames.max for a dynamic model, frames.static (at least the ramp's) for a static one")
       .def_property_readonly(
-          "finished", [](const Run& r) { return r.case_run().finished(); },
+          "finished", [](const Run& r) { return r.state().finished; },
           "the budget is spent or a dynamic model is steady")
       .def_property_readonly(
-          "steady_frame", [](const Run& r) { return r.case_run().steady_frame(); },
+          "steady_frame", [](const Run& r) { return r.state().steady_frame; },
           "a dynamic model's first steady frame; -1 before it and for a static model")
       .def_property_readonly(
           "error",
@@ -161,7 +182,7 @@ again. The GIL is released while C++ builds, sets up and steps.)")
           },
           "why a step failed, or None")
       .def_property_readonly(
-          "setup_ms", [](const Run& r) { return r.case_run().setup_ms(); }, "the model's setup, ms")
+          "setup_ms", [](const Run& r) { return r.state().setup_ms; }, "the model's setup, ms")
       .def_property_readonly(
           "step_ms",
           [](const Run& r) {
@@ -180,7 +201,7 @@ again. The GIL is released while C++ builds, sets up and steps.)")
       .def_property_readonly(
           "displacement",
           [](const Run& r) {
-            if (r.case_run().frames() == 0) return Points(Points::Zero(r.mesh().fine_surface.V.rows(), 3));
+            if (r.state().frames == 0) return Points(Points::Zero(r.mesh().fine_surface.V.rows(), 3));
             return Points(r.case_run().model().surface_displacement());
           },
           "#V by 3 displacements of the fine-surface vertices after the last frame, m (zeros before the first); "
@@ -191,7 +212,7 @@ again. The GIL is released while C++ builds, sets up and steps.)")
       .def_property_readonly(
           "probes",
           [](const Run& r) -> py::object {
-            const Points* p = r.case_run().frames() > 0 ? r.case_run().model().probe_displacements() : nullptr;
+            const Points* p = r.state().frames > 0 ? r.case_run().model().probe_displacements() : nullptr;
             if (!p || r.scenario().probes.rows() == 0) return py::none();
             return py::cast(Points(*p));
           },
@@ -209,7 +230,7 @@ again. The GIL is released while C++ builds, sets up and steps.)")
       .def_property_readonly(
           "reactions",
           [](const Run& r) -> py::object {
-            const auto* f = r.case_run().frames() > 0 ? r.case_run().model().reaction_forces() : nullptr;
+            const auto* f = r.state().frames > 0 ? r.case_run().model().reaction_forces() : nullptr;
             if (!f) return py::none();
             return py::cast(rows_of(*f));
           },
@@ -220,7 +241,7 @@ again. The GIL is released while C++ builds, sets up and steps.)")
           "what the model reports of its setup (run.json model_report), a dict")
       .def("__repr__", [](const Run& r) {
         return "<tissuebench.Run " + r.scenario().name + "/" + r.model_run().case_name + ", frame " +
-               std::to_string(r.case_run().frames()) + " of " + std::to_string(r.case_run().budget()) + ">";
+               std::to_string(r.state().frames) + " of " + std::to_string(r.state().budget) + ">";
       });
 }
 

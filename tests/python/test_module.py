@@ -361,6 +361,25 @@ class RunAgainstTheProgram(Folder):
         self.assertEqual(status, 1)
         self.assertIn("tissuebench: " + message, err.splitlines(), err)
 
+    def test_a_run_stepped_in_a_thread_can_be_watched_between_frames(self):
+        # frames and finished stay readable while another thread steps; the model's arrays
+        # are refused until the frame is done (they would race with it), never torn.
+        run = tissuebench.Run(self.scenario, "pbd", mesh_cache=self.cache)
+        worker = threading.Thread(target=run.run)
+        worker.start()
+        seen, refused = [], 0
+        while worker.is_alive():
+            seen.append(run.frames)
+            try:
+                self.assertEqual(run.displacement.shape, run.rest_positions.shape)
+            except tissuebench.Error as e:
+                self.assertEqual(str(e), "small/pbd: stepping in another thread; read its results between steps")
+                refused += 1
+        worker.join()
+        self.assertEqual(seen, sorted(seen))
+        self.assertTrue(run.finished)
+        self.assertEqual(run.frames, len(run.step_ms))
+
     def test_the_gil_is_released_while_cpp_builds_sets_up_and_steps(self):
         # Built without the cache (TetGen, the FEM's factorisation) in a thread: the main
         # thread keeps running Python meanwhile, with no pause near the build's length.
