@@ -155,8 +155,9 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
                    {"lame_from", "mu = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu))"}};
   nlohmann::json definition = {{"box", {{"min", vec(s.support.min)}, {"max", vec(s.support.max)}}},
                                {"meaning",
-                                "the surface vertices whose rest position lies in the box (null: "
-                                "unbounded) are held fixed"}};
+                                "every node whose rest position lies in the box (null: unbounded) is held "
+                                "fixed, interior nodes of a volume too (the lowest fraction of the height is "
+                                "a slab); support_vertices.csv lists the surface's"}};
   if (s.support_lowest_fraction >= 0) definition["lowest_fraction"] = s.support_lowest_fraction;
   j["support"] = {{"definition", definition},
                   {"vertices", "support_vertices.csv"},
