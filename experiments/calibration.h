@@ -14,7 +14,7 @@
 namespace tb {
 
 struct Calibration {
-  double figure_ms = 0;          ///< median over the repeats of one repeat's time
+  double figure_ms = 0;          ///< the fastest repeat's time (calibration.cc says why)
   std::vector<double> times_ms;  ///< each repeat's time, in order
   double checksum = 0;           ///< of the forces: the same on every run of one build
   nlohmann::json machine;        ///< cpu, cores, build, load average (build_info.h)
