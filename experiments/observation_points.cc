@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <regex>
 #include <stdexcept>
 
 #include "csv_reader.h"
@@ -71,14 +72,24 @@ void check_count(const std::string& file, const nlohmann::json& meta, const std:
 
 }  // namespace
 
+std::string observation_role(const std::string& dir, const std::string& role) {
+  const auto has_files = [&](const std::string& r) { return fs::exists(fs::path(dir) / (r + ".json")); };
+  if (has_files(role)) return role;
+  static const std::regex finer_study(R"((.+)_\d+k)");
+  std::smatch m;
+  if (std::regex_match(role, m, finer_study) && has_files(m[1].str())) return m[1].str();
+  return role;
+}
+
 ObservationPoints read_observation_points(const std::string& dir, const Scenario& s, const SurfaceMesh& surface) {
   if (s.role.empty())
     throw std::runtime_error(s.file + ": scenario '" + s.name + "' has no role: observation points are per suite role");
-  const fs::path base = fs::path(dir) / s.role;
+  ObservationPoints out;
+  out.role = observation_role(dir, s.role);
+  const fs::path base = fs::path(dir) / out.role;
   const std::string json_file = base.string() + ".json", csv_file = base.string() + ".csv";
   const nlohmann::json meta = read_json_file(json_file);
   if (!meta.is_object()) throw std::runtime_error(json_file + ": not a JSON object");
-  ObservationPoints out;
   PointRows surface_rows = read_points(csv_file, true, "source_vertex", surface.V, "the built fine surface's vertices");
   out.surface_id = std::move(surface_rows.id);
   out.surface_patch = std::move(surface_rows.patch);

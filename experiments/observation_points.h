@@ -26,6 +26,9 @@ std::string default_observation_points_dir();
 std::string shown_path(const std::string& path);
 
 struct ObservationPoints {
+  /// The role whose committed files gave the points (observation_role); empty for a
+  /// scenario's own points.
+  std::string role;
   std::vector<std::string> surface_id;     ///< #S ids, "s<vertex of the suite mesh>"
   std::vector<std::string> surface_patch;  ///< #S patch names ("top_face", "whole_surface")
   Points surface = Points(0, 3);           ///< #S by 3 rest positions, m
@@ -36,7 +39,16 @@ struct ObservationPoints {
   nlohmann::json source = nlohmann::json::object();
 };
 
-/// The points of `scenario.role` in `dir` (<role>.csv, <role>.json, and
+/// The role whose points and converged answer `role` takes in `dir`: its own files
+/// when <role>.json is there, else, for a finer mesh's study role (<base>_10k, _35k,
+/// _100k: the suite's problem on another mesh, which
+/// analysis/prediction_leaderboard.py's same_problem checks), its base role's when
+/// those are. The points are coordinates, or vertices and beads that a refined mesh
+/// keeps (the liver's surface subdivided keeps its vertices first; the beads are the
+/// scenario's probes). Otherwise `role` itself (reading then names the missing file).
+std::string observation_role(const std::string& dir, const std::string& role);
+
+/// The points of observation_role(dir, scenario.role) in `dir` (<role>.csv, <role>.json, and
 /// <role>_interior.csv when the JSON counts interior points), placed on `surface`
 /// (the scenario's built fine surface) and the scenario's probes. Throws
 /// std::runtime_error, one line naming the file and the problem: a missing file, a

@@ -122,7 +122,10 @@ nlohmann::json problem_json(const Scenario& s, const HybridMesh& mesh, const Obs
   nlohmann::json j;
   j["format"] = kProblemFormat;
   j["scenario"] = s.name;
-  j["role"] = s.role;
+  // The role that scores the package: a finer study's role takes its base role's
+  // points and answer (observation_role).
+  j["role"] = points.role.empty() ? s.role : points.role;
+  if (j["role"] != s.role) j["scenario_role"] = s.role;
   j["description"] = s.description;
   j["scenario_file"] = shown_path(s.file);
   j["units"] = {{"length", "m"}, {"force", "N"}, {"time", "s"}, {"stress", "Pa"}, {"density", "kg/m^3"}};

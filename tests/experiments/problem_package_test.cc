@@ -16,6 +16,7 @@
 #include "csv_reader.h"
 #include "mesh_io.h"
 #include "mesh_recipe.h"
+#include "observation_points.h"
 #include "runner.h"
 #include "test_support.h"
 #include "tool_placement.h"
@@ -283,6 +284,18 @@ TEST(ProblemPackage, LBlockGraspHasItsToolPathAndPoints) {
   }
   EXPECT_EQ(read_volume((package / "volume.msh").string()).T, mesh.fine_volume.T);
   expect_committed_points(package, "l_block_grasp");
+}
+
+TEST(ProblemPackage, AFinerStudysRoleTakesItsBaseRolesPoints) {
+  const testing::TempFolder dir("problem-package-roles");
+  for (const char* role : {"flap_gravity", "cube_pull_disc", "cube_pull_disc_10k"})
+    std::ofstream(fs::path(dir.path) / (std::string(role) + ".json")) << "{}";
+  EXPECT_EQ(observation_role(dir.path, "flap_gravity"), "flap_gravity");
+  EXPECT_EQ(observation_role(dir.path, "flap_gravity_10k"), "flap_gravity");
+  EXPECT_EQ(observation_role(dir.path, "flap_gravity_100k"), "flap_gravity");
+  EXPECT_EQ(observation_role(dir.path, "cube_pull_disc_10k"), "cube_pull_disc_10k");  // its own files first
+  EXPECT_EQ(observation_role(dir.path, "torus_grasp_10k"), "torus_grasp_10k");  // no base: reading names it
+  EXPECT_EQ(observation_role(dir.path, "flap_gravity_fine"), "flap_gravity_fine");  // not a finer study's name
 }
 
 TEST(ProblemPackage, ScenarioWithoutRoleObservesItsOwnVertices) {
