@@ -9,10 +9,11 @@
 namespace tb::testing {
 
 /// Runs `TB_CLI args` (TB_CLI: the tissuebench program, defined for every test
-/// executable in tests/CMakeLists.txt) with stderr joined to stdout; returns its exit
-/// status (-1 if it did not exit) and its output in `output`.
-inline int run_tissuebench(const std::string& args, std::string& output) {
-  FILE* p = popen((std::string(TB_CLI) + " " + args + " 2>&1").c_str(), "r");
+/// executable in tests/CMakeLists.txt) through the shell, after `env` (environment
+/// assignments, e.g. "TISSUEBENCH_DATA=/x", or empty), with stderr joined to stdout;
+/// returns its exit status (-1 if it did not exit) and its output in `output`.
+inline int run_tissuebench(const std::string& args, std::string& output, const std::string& env = "") {
+  FILE* p = popen((env + " " + std::string(TB_CLI) + " " + args + " 2>&1").c_str(), "r");
   if (!p) return -1;
   output.clear();
   char buffer[4096];

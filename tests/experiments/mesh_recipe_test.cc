@@ -4,16 +4,15 @@
 #include "mesh_recipe.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
 #include "atomic_file.h"
+#include "cli_run.h"
 #include "mesh_checks.h"
 #include "scenario.h"
 #include "strict_json.h"
@@ -35,17 +34,6 @@ void expect_recipe_error(const nlohmann::json& j, const std::string& message) {
     EXPECT_NE(std::string(e.what()).find("s.json: mesh"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
   }
-}
-
-/// Runs the tissuebench program; returns its exit status, stdout and stderr in `output`.
-int run_cli(const std::string& args, std::string& output) {
-  FILE* p = popen((std::string(TB_CLI) + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return -1;
-  output.clear();
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, p)) output.append(buffer, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 TEST(MeshRecipe, ShapeKeysAreStrict) {
@@ -74,7 +62,7 @@ TEST(MeshRecipe, BareCubeIsThePaperScenariosCube) {
 TEST(MeshCommand, CubeWithNoOptionIsThePaperCube) {
   const testing::TempFolder dir("cli-cube");
   std::string out;
-  ASSERT_EQ(run_cli("mesh --cube --out " + dir / "m", out), 0) << out;
+  ASSERT_EQ(testing::run_tissuebench("mesh --cube --out " + dir / "m", out), 0) << out;
   const auto j = nlohmann::json::parse(read_file(dir / "m/summary.json"));
   EXPECT_EQ(j.at("surface_vertices"), 682);
   EXPECT_EQ(j.at("fine_nodes"), 3114);
@@ -84,7 +72,7 @@ TEST(MeshCommand, CubeWithNoOptionIsThePaperCube) {
 TEST(MeshCommand, ShapeAndItsErrors) {
   const testing::TempFolder dir("cli-shape");
   std::string out;
-  ASSERT_EQ(run_cli("mesh --shape dumbbell --resolution 10 --out " + dir / "m", out), 0) << out;
+  ASSERT_EQ(testing::run_tissuebench("mesh --shape dumbbell --resolution 10 --out " + dir / "m", out), 0) << out;
   const auto j = nlohmann::json::parse(read_file(dir / "m/summary.json"));
   EXPECT_GT(j.at("coarse_nodes").get<int>(), 100);
   // The coarse mesh of a curved surface lies inside it: the distance is reported.
@@ -92,13 +80,13 @@ TEST(MeshCommand, ShapeAndItsErrors) {
   EXPECT_LT(j.at("max_embedding_distance").get<double>(), 0.01);
   EXPECT_EQ(j.at("coarse_tets_below_5deg"), 0);
   EXPECT_TRUE(j.contains("fine_tets_below_5deg"));
-  EXPECT_NE(run_cli("mesh --shape cylinder --out " + dir / "x", out), 0);
+  EXPECT_NE(testing::run_tissuebench("mesh --shape cylinder --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("'cylinder' is not one of"), std::string::npos) << out;
-  EXPECT_NE(run_cli("mesh --cube --resolution 20 --out " + dir / "x", out), 0);
+  EXPECT_NE(testing::run_tissuebench("mesh --cube --resolution 20 --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("--resolution requires --shape"), std::string::npos) << out;
-  EXPECT_NE(run_cli("mesh --shape torus --unit-scale 0.01 --out " + dir / "x", out), 0);
+  EXPECT_NE(testing::run_tissuebench("mesh --shape torus --unit-scale 0.01 --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("--unit-scale requires --surface"), std::string::npos) << out;
-  EXPECT_NE(run_cli("mesh --cube --shape torus --out " + dir / "x", out), 0);
+  EXPECT_NE(testing::run_tissuebench("mesh --cube --shape torus --out " + dir / "x", out), 0);
   EXPECT_NE(out.find("excludes"), std::string::npos) << out;
 }
 

@@ -2,9 +2,7 @@
 // third-party data read through the data directory (docs/scenario_schema.md,
 // README "Data").
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +11,7 @@
 #include <sstream>
 
 #include "atomic_file.h"
+#include "cli_run.h"
 #include "file_schema.h"
 #include "mesh_io.h"
 #include "scenario_fixture.h"
@@ -20,18 +19,6 @@
 namespace tb {
 namespace {
 namespace fs = std::filesystem;
-
-/// Runs the tissuebench program through the shell (so `args` may start with
-/// environment assignments); returns its exit status, stdout and stderr in `output`.
-int run_cli(const std::string& env, const std::string& args, std::string& output) {
-  FILE* p = popen((env + " " + std::string(TB_CLI) + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return -1;
-  output.clear();
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, p)) output.append(buffer, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 std::vector<std::string> cases(const Scenario& s) {
   std::vector<std::string> out;
@@ -206,7 +193,8 @@ TEST_F(ScenarioFiles, IndexOnlyWritesExperimentJsonAndNothingElse) {
   const std::string file =
       write("study.json", {{"name", "study"}, {"scenarios", {{{"file", "a.json"}, {"role", "cube_pull"}}}}});
   std::string out;
-  ASSERT_EQ(run_cli("", "run " + file + " --index-only --quiet --out " + (dir / "out").string(), out), 0) << out;
+  ASSERT_EQ(testing::run_tissuebench("run " + file + " --index-only --quiet --out " + (dir / "out").string(), out), 0)
+      << out;
   std::vector<std::string> written;
   for (const auto& entry : fs::recursive_directory_iterator(dir / "out"))
     written.push_back(fs::relative(entry.path(), dir / "out").string());
@@ -233,7 +221,7 @@ TEST_F(DataFiles, AMissingDataFileIsOneLineNamingTheFileAndTheDataDirectoryAndNo
   const std::string file = scenario_with_data_surface(false);
   const std::string data = (dir / "data").string(), out_dir = (dir / "out").string();
   std::string out;
-  EXPECT_NE(run_cli("", "run " + file + " --data-dir " + data + " --out " + out_dir, out), 0);
+  EXPECT_NE(testing::run_tissuebench("run " + file + " --data-dir " + data + " --out " + out_dir, out), 0);
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   for (const std::string& part : {"s.json.mesh.surface: meshes/tet.obj: not found in data directory " + data,
                                   std::string("(--data-dir;"), std::string("README 'Data'")})
@@ -259,15 +247,18 @@ TEST_F(DataFiles, TheFlagWinsOverTheEnvironmentWhichWinsOverTheDefault) {
   const std::string data = (dir / "data").string(), elsewhere = (dir / "elsewhere").string();
   std::string out;
   // TISSUEBENCH_DATA alone: read from there; resolve records the reference as written.
-  ASSERT_EQ(run_cli("TISSUEBENCH_DATA=" + data, "resolve " + file, out), 0) << out;
+  ASSERT_EQ(testing::run_tissuebench("resolve " + file, out, "TISSUEBENCH_DATA=" + data), 0) << out;
   const auto resolved = nlohmann::json::parse(out);
   EXPECT_EQ(resolved["scenarios_resolved"][0]["mesh"]["surface"], "data:meshes/tet.obj");
   // TISSUEBENCH_DATA elsewhere: not found there, and the message says which variable chose it.
-  EXPECT_NE(run_cli("TISSUEBENCH_DATA=" + elsewhere, "resolve " + file, out), 0);
+  EXPECT_NE(testing::run_tissuebench("resolve " + file, out, "TISSUEBENCH_DATA=" + elsewhere), 0);
   EXPECT_NE(out.find("not found in data directory " + elsewhere + " (TISSUEBENCH_DATA;"), std::string::npos) << out;
   // --data-dir wins over TISSUEBENCH_DATA, both ways.
-  EXPECT_EQ(run_cli("TISSUEBENCH_DATA=" + elsewhere, "resolve " + file + " --data-dir " + data, out), 0) << out;
-  EXPECT_NE(run_cli("TISSUEBENCH_DATA=" + data, "resolve " + file + " --data-dir " + elsewhere, out), 0);
+  EXPECT_EQ(testing::run_tissuebench("resolve " + file + " --data-dir " + data, out, "TISSUEBENCH_DATA=" + elsewhere),
+            0)
+      << out;
+  EXPECT_NE(testing::run_tissuebench("resolve " + file + " --data-dir " + elsewhere, out, "TISSUEBENCH_DATA=" + data),
+            0);
   EXPECT_NE(out.find("not found in data directory " + elsewhere + " (--data-dir;"), std::string::npos) << out;
   // In the library: the flag, then the variable.
   ::setenv("TISSUEBENCH_DATA", elsewhere.c_str(), 1);
